@@ -1,0 +1,39 @@
+# PERI-NOSPD: the two commands a fresh machine needs.
+#   make run    provision (Debian packages, LAMMPS from Debian's source
+#               package, the plugin) and run the flagship example
+#   make test   provision and run the whole test suite through ctest
+# Other targets: make lammps | plugin | bench | doc | clean
+SHELL := /bin/bash
+JOBS ?= $(shell nproc)
+BUILD ?= build
+LAMMPS_SRC = $(shell bash cmake/lammps.sh print-src)
+LAMMPS_BLD = $(shell bash cmake/lammps.sh print-dir)
+
+.PHONY: all lammps plugin run test bench doc clean
+
+all: plugin
+
+lammps:
+	bash cmake/lammps.sh all
+
+$(BUILD)/CMakeCache.txt: | lammps
+	cmake -S . -B $(BUILD) -DLAMMPS_SOURCE_DIR=$(LAMMPS_SRC)/src -DLAMMPS_BINARY_DIR=$(LAMMPS_BLD)
+
+plugin: lammps $(BUILD)/CMakeCache.txt
+	cmake --build $(BUILD) -j $(JOBS)
+
+run: plugin
+	bash examples/run-flagship.sh $(LAMMPS_BLD)/lmp $(BUILD)/plugin
+
+test: plugin
+	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
+
+bench: plugin
+	bash bench/run.sh $(LAMMPS_BLD)/lmp $(BUILD)/plugin
+
+doc:
+	bash cmake/lammps.sh deps
+	python3 -m sphinx -W -b html doc $(BUILD)/doc-html
+
+clean:
+	rm -rf $(BUILD)

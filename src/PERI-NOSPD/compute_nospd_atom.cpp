@@ -1,0 +1,163 @@
+/* ----------------------------------------------------------------------
+   PERI-NOSPD: correspondence peridynamics for LAMMPS.
+------------------------------------------------------------------------- */
+
+#include "compute_nospd_atom.h"
+
+#include "atom.h"
+#include "error.h"
+#include "fix_nospd_bonds.h"
+#include "force.h"
+#include "memory.h"
+#include "pair.h"
+#include "pair_peri_nospd.h"
+#include "update.h"
+
+#include "nospd_constitutive.h"
+
+#include <cmath>
+#include <cstring>
+
+using namespace LAMMPS_NS;
+using NOSPD::Mat3;
+
+static int ncolumns(int q)
+{
+  switch (q) {
+    case 0: return 9;    // F
+    case 1: return 6;    // strain
+    case 2: return 6;    // stress
+    default: return 1;
+  }
+}
+
+/* ---------------------------------------------------------------------- */
+
+ComputeNospdAtom::ComputeNospdAtom(LAMMPS *lmp, int narg, char **arg) :
+    Compute(lmp, narg, arg), nmax(0), out(nullptr), pair(nullptr)
+{
+  for (int iarg = 3; iarg < narg; iarg++) {
+    const std::string k = arg[iarg];
+    if (k == "F") quantities.push_back(DEFGRAD);
+    else if (k == "strain") quantities.push_back(STRAIN);
+    else if (k == "stress") quantities.push_back(STRESS);
+    else if (k == "vonmises") quantities.push_back(VONMISES);
+    else if (k == "energy") quantities.push_back(ENERGY);
+    else if (k == "zem") quantities.push_back(ZEM);
+    else if (k == "singular") quantities.push_back(SINGULAR);
+    else
+      error->all(FLERR, "compute {}: unknown quantity '{}' (F, strain, stress, vonmises, energy, "
+                 "zem, singular)", style, k);
+  }
+  if (quantities.empty()) quantities = {DEFGRAD, STRAIN, STRESS, VONMISES, ENERGY, ZEM, SINGULAR};
+
+  int n = 0;
+  for (int q : quantities) n += ncolumns(q);
+  peratom_flag = 1;
+  size_peratom_cols = n;
+}
+
+/* ---------------------------------------------------------------------- */
+
+ComputeNospdAtom::~ComputeNospdAtom()
+{
+  memory->destroy(out);
+}
+
+/* ---------------------------------------------------------------------- */
+
+void ComputeNospdAtom::init()
+{
+  pair = dynamic_cast<PairPeriNospd *>(force->pair_match("^peri/nospd", 0));
+  if (!pair) error->all(FLERR, "compute {} requires a peri/nospd pair style", style);
+}
+
+/* ---------------------------------------------------------------------- */
+
+void ComputeNospdAtom::compute_peratom()
+{
+  invoked_peratom = update->ntimestep;
+  if (atom->nmax > nmax) {
+    memory->destroy(out);
+    nmax = atom->nmax;
+    memory->create(out, nmax, size_peratom_cols, "nospd/atom:out");
+    array_atom = out;
+  }
+
+  FixNospdBonds *bonds = pair->bonds();
+  const int nlocal = atom->nlocal;
+  const int *mask = atom->mask;
+  const bool ready = bonds && bonds->bond_first && bonds->nbond_atoms == nlocal;
+
+  for (int i = 0; i < nlocal; i++) {
+    double *row = out[i];
+    if (!(mask[i] & groupbit) || !ready) {
+      for (int k = 0; k < size_peratom_cols; k++) row[k] = 0.0;
+      continue;
+    }
+    const Mat3 F = NOSPD::load(bonds->defgrad[i]);
+    const Mat3 P = NOSPD::load(bonds->pk1[i]);
+    Mat3 sigma = Mat3::Zero();
+    if (!bonds->singular[i]) sigma = NOSPD::cauchy_stress(pair->law(), F, P);
+    int c = 0;
+    for (int q : quantities) {
+      switch (q) {
+        case DEFGRAD:
+          for (int k = 0; k < 9; k++) row[c++] = bonds->defgrad[i][k];
+          break;
+        case STRAIN: {
+          const Mat3 I = Mat3::Identity();
+          const Mat3 e = (pair->law() == NOSPD::Law::SMALL) ? Mat3(0.5 * (F + F.transpose()) - I)
+                                                             : Mat3(0.5 * (F.transpose() * F - I));
+          row[c++] = e(0, 0); row[c++] = e(1, 1); row[c++] = e(2, 2);
+          row[c++] = e(0, 1); row[c++] = e(0, 2); row[c++] = e(1, 2);
+          break;
+        }
+        case STRESS:
+          row[c++] = sigma(0, 0); row[c++] = sigma(1, 1); row[c++] = sigma(2, 2);
+          row[c++] = sigma(0, 1); row[c++] = sigma(0, 2); row[c++] = sigma(1, 2);
+          break;
+        case VONMISES: row[c++] = NOSPD::von_mises(sigma); break;
+        case ENERGY: row[c++] = bonds->energy_density[i]; break;
+        case ZEM: row[c++] = zem_indicator(i); break;
+        case SINGULAR: row[c++] = bonds->singular[i]; break;
+      }
+    }
+  }
+}
+
+/* ----------------------------------------------------------------------
+   |z| = sqrt( sum_j w |Y - F xi|^2 / sum_j w |xi|^2 ): the part of the
+   deformation state that F does not describe, relative to the bond
+   lengths.  Zero for any homogeneous deformation; large for zero-energy
+   (hourglass) modes.
+------------------------------------------------------------------------- */
+
+double ComputeNospdAtom::zem_indicator(int i) const
+{
+  FixNospdBonds *bonds = pair->bonds();
+  if (bonds->singular[i]) return 0.0;
+  double **x = atom->x;
+  double **x0s = bonds->x0s;
+  const Mat3 H = NOSPD::load(bonds->defgrad[i]) - Mat3::Identity();
+  double zz = 0.0, xx = 0.0;
+  for (int b = bonds->bond_first[i]; b < bonds->bond_first[i + 1]; b++) {
+    const int j = bonds->bond_j[b];
+    const double w = bonds->bond_w[b];
+    const NOSPD::Vec3 xi(x0s[j][0] - x0s[i][0], x0s[j][1] - x0s[i][1], x0s[j][2] - x0s[i][2]);
+    const NOSPD::Vec3 u(x[j][0] - x[i][0] - xi[0], x[j][1] - x[i][1] - xi[1],
+                        x[j][2] - x[i][2] - xi[2]);
+    NOSPD::Vec3 Hxi = H * xi;
+    if (atom->natoms && xi[2] == 0.0) Hxi[2] = 0.0;    // 2D: F33 is not a bond quantity
+    zz += w * (u - Hxi).squaredNorm();
+    xx += w * xi.squaredNorm();
+  }
+  return xx > 0.0 ? std::sqrt(zz / xx) : 0.0;
+}
+
+/* ---------------------------------------------------------------------- */
+
+double ComputeNospdAtom::memory_usage()
+{
+  return (double) nmax * size_peratom_cols * sizeof(double);
+}

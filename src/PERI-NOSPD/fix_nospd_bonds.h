@@ -1,0 +1,110 @@
+/* -*- c++ -*- ----------------------------------------------------------
+   PERI-NOSPD: correspondence peridynamics for LAMMPS.
+------------------------------------------------------------------------- */
+
+#ifdef FIX_CLASS
+// clang-format off
+FixStyle(PERI_NEIGH/NOSPD,FixNospdBonds);
+// clang-format on
+#else
+
+#ifndef LMP_FIX_NOSPD_BONDS_H
+#define LMP_FIX_NOSPD_BONDS_H
+
+#include "fix_peri_neigh.h"
+
+namespace LAMMPS_NS {
+
+// How the owning pair style weighs bonds: horizon per type pair and the
+// influence function.  Set by the pair style before the first run.
+struct NospdBondModel {
+  enum Influence { CONSTANT, INVERSE };
+  double **horizon = nullptr;    // [ntypes+1][ntypes+1]
+  int influence = CONSTANT;
+  int dim = 3;
+  double singular_tol = 1.0e-4;    // det K / (tr K/dim)^dim below this: singular
+};
+
+/* Owner of the bond families and of the reference and deformation state.
+   Builds on FixPeriNeigh (partner tags, migration and restart of the
+   families, compute damage/atom) and adds:
+     - families built from x0 (minimum-imaged) before the first force call;
+     - contiguous per-owned-atom bond arrays (CSR): local partner index and
+       weight omega*V_j, refreshed once per reneighboring;
+     - x0 in the current periodic image for owned and ghost atoms;
+     - K^-1 per atom (recomputed only where a bond breaks), singular flags;
+     - F, P and the stored-energy density per atom, filled in by pass 1 of
+       the pair style and read by computes and the damage fix. */
+class FixNospdBonds : public FixPeriNeigh {
+ public:
+  FixNospdBonds(class LAMMPS *, int, char **);
+  ~FixNospdBonds() override;
+  int setmask() override;
+  void init() override;
+  void setup(int) override;
+  void setup_post_neighbor() override;
+  void post_neighbor() override;
+  void min_post_neighbor() override { post_neighbor(); }
+  double compute_vector(int) override;
+
+  double memory_usage() override;
+  void grow_arrays(int) override;
+  void copy_arrays(int, int, int) override;
+  int pack_exchange(int, double *) override;
+  int unpack_exchange(int, double *) override;
+
+  void set_model(const NospdBondModel &m) { model = m; }
+  const NospdBondModel &get_model() const { return model; }
+
+  // Pass 1: F = I + (sum_j w U (x) xi) K^-1 for every owned atom.  When
+  // `moments` is given it also receives sum_j w U (x) U (6 values, xx yy zz
+  // xy xz yz) per atom, which the stabilization energy needs.
+  void compute_deformation(double **moments = nullptr);
+
+  // Breaking bonds (damage fix): zero the partner slot, mark K^-1 stale.
+  // Call bonds_changed() once after a batch of breaks on all ranks.
+  void break_bond(int i, int slot);
+  void bonds_changed();
+
+  // ---- state read by pair styles, computes and the damage fix ----
+  int nbond_atoms;        // owned atoms covered by the CSR arrays
+  int *bond_first;        // [nlocal+1] offsets into bond_j/bond_w
+  int *bond_j;            // local index of the partner (closest image)
+  int *bond_slot;         // partner slot in FixPeriNeigh::partner[i]
+  double *bond_w;         // omega(|xi|) * V_j
+  double **x0s;           // x0 in the periodic image of x, owned + ghost
+  double **kinv;          // K^-1, 9 per atom, row-major; zero if singular
+  double **xi_moment;     // sum_j w xi (reference; zero inside a regular grid)
+  double **u_moment;      // sum_j w U, filled by pass 1
+  int *singular;          // 1 if K is singular: no correspondence force
+  double **defgrad;       // F, 9 per atom
+  double **pk1;           // first Piola-Kirchhoff stress P, 9 per atom
+  double *energy_density; // stored-energy density W(F) (plus stabilization)
+  bigint nsingular;       // global count of singular families
+  bigint nbonds_total, nbonds_broken;
+
+  using FixPeriNeigh::npartner;
+  using FixPeriNeigh::partner;
+  using FixPeriNeigh::r0;
+  using FixPeriNeigh::vinter;
+  using FixPeriNeigh::maxpartner;
+
+ protected:
+  NospdBondModel model;
+  int nmax_bonds, nmax_first, nmax_x0s;
+  int *stale;               // [nmax] K^-1 to recompute
+  bool all_stale;
+  double **x0s_store;    // x0s when the box is periodic (else x0s = atom->x0)
+
+  void build_families();
+  void update_x0s();
+  void build_bond_arrays();
+  void update_shape_tensors();
+  void count_bonds();
+  double weight(double r, double delta) const;
+};
+
+}    // namespace LAMMPS_NS
+
+#endif
+#endif

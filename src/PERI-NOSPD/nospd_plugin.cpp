@@ -1,0 +1,80 @@
+/* ----------------------------------------------------------------------
+   PERI-NOSPD: correspondence peridynamics for LAMMPS.
+   Registration of every style of the package with LAMMPS's plugin loader.
+------------------------------------------------------------------------- */
+
+#include "lammpsplugin.h"
+
+#include "error.h"
+#include "lammps.h"
+#include "version.h"
+
+#include "compute_nospd_atom.h"
+#include "fix_nospd_bonds.h"
+#include "pair_peri_nospd.h"
+
+#include <cstring>
+
+using namespace LAMMPS_NS;
+
+namespace {
+
+// A plugin compiled against one LAMMPS version and loaded into another
+// would read class layouts that differ: refuse at style creation with the
+// two versions named, instead of crashing somewhere later.
+bool version_ok(LAMMPS *lmp, const char *style)
+{
+  if (strcmp(lmp->version, LAMMPS_VERSION) == 0) return true;
+  lmp->error->all(FLERR,
+                  "PERI-NOSPD style {} was compiled for LAMMPS {} but is loaded into LAMMPS {}: "
+                  "rebuild the plugin against this LAMMPS's source tree",
+                  style, LAMMPS_VERSION, lmp->version);
+  return false;
+}
+
+Pair *pair_nospd_creator(LAMMPS *lmp)
+{
+  version_ok(lmp, "pair peri/nospd");
+  return new PairPeriNospd(lmp);
+}
+
+Fix *fix_bonds_creator(LAMMPS *lmp, int argc, char **argv)
+{
+  version_ok(lmp, "fix PERI_NEIGH/NOSPD");
+  return new FixNospdBonds(lmp, argc, argv);
+}
+
+Compute *compute_atom_creator(LAMMPS *lmp, int argc, char **argv)
+{
+  version_ok(lmp, "compute nospd/atom");
+  return new ComputeNospdAtom(lmp, argc, argv);
+}
+
+}    // namespace
+
+extern "C" void lammpsplugin_init(void *lmp, void *handle, void *regfunc)
+{
+  auto register_plugin = (lammpsplugin_regfunc) regfunc;
+  lammpsplugin_t plugin;
+  plugin.version = LAMMPS_VERSION;
+  plugin.author = "PERI-NOSPD developers";
+  plugin.handle = handle;
+
+  plugin.style = "pair";
+  plugin.name = "peri/nospd";
+  plugin.info = "PERI-NOSPD classical correspondence peridynamics";
+  plugin.creator.v1 = (lammpsplugin_factory1 *) &pair_nospd_creator;
+  (*register_plugin)(&plugin, lmp);
+
+  plugin.style = "fix";
+  plugin.name = "PERI_NEIGH/NOSPD";
+  plugin.info = "PERI-NOSPD bond families, reference and deformation state";
+  plugin.creator.v2 = (lammpsplugin_factory2 *) &fix_bonds_creator;
+  (*register_plugin)(&plugin, lmp);
+
+  plugin.style = "compute";
+  plugin.name = "nospd/atom";
+  plugin.info = "PERI-NOSPD per-atom F, strain, stress, von Mises, energy, zero-energy-mode indicator";
+  plugin.creator.v2 = (lammpsplugin_factory2 *) &compute_atom_creator;
+  (*register_plugin)(&plugin, lmp);
+}

@@ -1,0 +1,84 @@
+/* -*- c++ -*- ----------------------------------------------------------
+   PERI-NOSPD: correspondence peridynamics for LAMMPS.
+   3x3 tensor helpers on Eigen fixed-size types.  Knows nothing of LAMMPS.
+------------------------------------------------------------------------- */
+
+#ifndef NOSPD_TENSOR_H
+#define NOSPD_TENSOR_H
+
+#include <Eigen/Dense>
+#include <cmath>
+
+namespace NOSPD {
+
+using Mat3 = Eigen::Matrix3d;
+using Vec3 = Eigen::Vector3d;
+
+// Tensors travel between LAMMPS arrays and Eigen as 9 doubles, row-major.
+inline Mat3 load(const double *p)
+{
+  Mat3 m;
+  m << p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7], p[8];
+  return m;
+}
+
+inline void store(const Mat3 &m, double *p)
+{
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) p[3 * r + c] = m(r, c);
+}
+
+/* Conditioning of a shape tensor: det(K) / (tr(K)/dim)^dim, which is 1 for
+   an isotropic family and 0 for a family whose bonds are (nearly) coplanar
+   (3D) or collinear (2D).  In 2D the out-of-plane entry K(2,2) is 1 and is
+   left out of the measure. */
+inline double shape_conditioning(const Mat3 &K, int dim)
+{
+  if (dim == 2) {
+    const double tr = 0.5 * (K(0, 0) + K(1, 1));
+    if (!(tr > 0.0)) return 0.0;
+    const double det = K(0, 0) * K(1, 1) - K(0, 1) * K(1, 0);
+    return det / (tr * tr);
+  }
+  const double tr = K.trace() / 3.0;
+  if (!(tr > 0.0)) return 0.0;
+  return K.determinant() / (tr * tr * tr);
+}
+
+/* Inverse of a shape tensor with a conditioning test.  Returns false and
+   leaves Kinv = 0 when the tensor is singular to within `tol`: such a
+   family cannot define a deformation gradient and must not be divided by. */
+inline bool safe_inverse(const Mat3 &K, int dim, double tol, Mat3 &Kinv)
+{
+  if (!(shape_conditioning(K, dim) > tol) || !K.allFinite()) {
+    Kinv.setZero();
+    return false;
+  }
+  Kinv = K.inverse();
+  return Kinv.allFinite();
+}
+
+/* Right polar decomposition F = R U by Higham's scaled Newton iteration
+   R <- (zeta R + R^-T / zeta)/2.  Converges quadratically; near a rotation
+   it takes 2-4 steps, far cheaper than an eigen-solve.  Requires det F > 0. */
+inline bool polar_decomposition(const Mat3 &F, Mat3 &R, Mat3 &U)
+{
+  R = F;
+  for (int it = 0; it < 50; ++it) {
+    const Mat3 Rinvt = R.inverse().transpose();
+    // determinant scaling accelerates the first steps of a stretched F
+    const double d = std::abs(R.determinant());
+    const double zeta = (it < 6 && d > 0.0) ? std::pow(d, -1.0 / 3.0) : 1.0;
+    const Mat3 next = 0.5 * (zeta * R + Rinvt / zeta);
+    const double change = (next - R).cwiseAbs().maxCoeff();
+    R = next;
+    if (change < 1e-15) break;
+  }
+  U = R.transpose() * F;
+  U = 0.5 * (U + U.transpose()).eval();
+  return R.allFinite();
+}
+
+}    // namespace NOSPD
+
+#endif

@@ -1,0 +1,95 @@
+/* -*- c++ -*- ----------------------------------------------------------
+   PERI-NOSPD: correspondence peridynamics for LAMMPS.
+------------------------------------------------------------------------- */
+
+#ifdef PAIR_CLASS
+// clang-format off
+PairStyle(peri/nospd,PairPeriNospd);
+// clang-format on
+#else
+
+#ifndef LMP_PAIR_PERI_NOSPD_H
+#define LMP_PAIR_PERI_NOSPD_H
+
+#include "pair.h"
+
+#include "nospd_stabilization.h"
+
+#include <string>
+#include <vector>
+
+namespace LAMMPS_NS {
+
+class FixNospdBonds;
+
+/* Classical correspondence peridynamics (Silling et al. 2007):
+     T_i<xi> = omega P_i K_i^-1 xi  (+ zero-energy-mode control)
+   Settings, materials and the constitutive pass are shared with the
+   horizon-stabilized style, which replaces only the force passes. */
+class PairPeriNospd : public Pair {
+ public:
+  PairPeriNospd(class LAMMPS *);
+  ~PairPeriNospd() override;
+
+  void compute(int, int) override;
+  void settings(int, char **) override;
+  void coeff(int, char **) override;
+  void init_style() override;
+  double init_one(int, int) override;
+  void write_restart(FILE *) override;
+  void read_restart(FILE *) override;
+  void write_restart_settings(FILE *) override;
+  void read_restart_settings(FILE *) override;
+  int pack_forward_comm(int, int *, double *, int, int *) override;
+  void unpack_forward_comm(int, int, double *) override;
+  double memory_usage() override;
+  void *extract(const char *, int &) override;
+
+  // read by computes and the damage fix
+  NOSPD::Law law() const { return strain_law; }
+  NOSPD::Plane plane() const { return plane_mode; }
+  FixNospdBonds *bonds() const { return fix_bonds; }
+  const NOSPD::Lame &material(int itype) const { return lame[itype]; }
+  double fracture_energy(int itype) const { return g0[itype]; }
+  double horizon(int itype, int jtype) const { return cut[itype][jtype]; }
+  int stabilization_kind() const { return static_cast<int>(stab); }
+
+ protected:
+  FixNospdBonds *fix_bonds;
+  NOSPD::Law strain_law;
+  NOSPD::Plane plane_mode;
+  NOSPD::Stab stab;
+  double stab_param;     // Silling G or hourglass C
+  int influence;         // NospdBondModel::Influence
+  double thickness;      // 2D: thickness carried by the volumes
+  double singular_tol;
+
+  // per type
+  double *youngs, *poisson, *g0;
+  std::vector<NOSPD::Lame> lame;
+  std::vector<std::string> material_name;
+  double *stab_scalar;    // Silling alpha or hourglass c_hg, per type
+  double **cut;
+
+  // per atom (owned + ghost), forward-communicated: B = P K^-1 - S H,
+  // and S (Wan) or H (hourglass) where the stabilization needs a tensor
+  int nmax_work;
+  double **bmat, **tmat, **moments;
+  int comm_tensors;    // 1 or 2 tensors of 9 in the forward comm
+
+  void allocate();
+  void ensure_bonds_fix();
+  void grow_work();
+  void constitutive_pass(int eflag);
+  template <int STAB, int VIRIAL> void force_pass(int eflag);
+  void tally_energy(int i, double e);
+  double stabilization_energy(int i) const;
+  void read_material_file(const std::string &file, const std::string &name, double &E,
+                          double &nu, double &G0);
+  void check_material(int itype) const;
+};
+
+}    // namespace LAMMPS_NS
+
+#endif
+#endif
