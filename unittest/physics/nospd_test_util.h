@@ -1,0 +1,123 @@
+/* Shared helpers for the physics tests: a LAMMPS instance with the
+   PERI-NOSPD plugin (auto-loaded through LAMMPS_PLUGIN_PATH), decks of
+   regular blocks, and access to per-atom data by atom ID. */
+#ifndef NOSPD_TEST_UTIL_H
+#define NOSPD_TEST_UTIL_H
+
+#include "atom.h"
+#include "compute.h"
+#include "exceptions.h"
+#include "fix.h"
+#include "force.h"
+#include "input.h"
+#include "lammps.h"
+#include "modify.h"
+#include "pair.h"
+#include "update.h"
+
+#include "gtest/gtest.h"
+#include <mpi.h>
+
+#include <cmath>
+#include <random>
+#include <string>
+#include <vector>
+
+namespace nospdtest {
+
+using LAMMPS_NS::LAMMPS;
+
+inline LAMMPS *open_lammps()
+{
+  const char *args[] = {"nospdtest", "-log", "none", "-echo", "none", "-screen", "none",
+                        "-nocite"};
+  return new LAMMPS(8, (char **) args, MPI_COMM_WORLD);
+}
+
+inline void cmd(LAMMPS *lmp, const std::string &line) { lmp->input->one(line); }
+
+// Run a command and return the LAMMPS error text it raised ("" if none).
+inline std::string error_of(LAMMPS *lmp, const std::string &line)
+{
+  try {
+    lmp->input->one(line);
+  } catch (LAMMPS_NS::LAMMPSAbortException &e) {
+    return e.what();
+  } catch (LAMMPS_NS::LAMMPSException &e) {
+    return e.what();
+  }
+  return "";
+}
+
+inline std::string num(double v)
+{
+  char buf[64];
+  snprintf(buf, sizeof(buf), "%.17g", v);
+  return buf;
+}
+
+struct Block {
+  int dim = 3;
+  int n = 13;              // points per side
+  double dx = 1.0e-3;      // spacing (m)
+  double mfactor = 3.01;   // horizon / dx
+  bool periodic = false;
+  std::string style = "peri/nospd";
+  std::string settings;    // pair_style keywords
+  double E = 200e9, nu = 0.3;
+  double delta() const { return mfactor * dx; }
+};
+
+// A simple-cubic (3D) or square (2D) block of n^dim points, SI units.
+inline void make_block(LAMMPS *lmp, const Block &b)
+{
+  const std::string bc = b.periodic ? "p p p" : (b.dim == 2 ? "s s p" : "s s s");
+  cmd(lmp, "units si");
+  cmd(lmp, "dimension " + std::to_string(b.dim));
+  cmd(lmp, "boundary " + bc);
+  cmd(lmp, "atom_style peri");
+  cmd(lmp, "atom_modify map array");
+  cmd(lmp, "lattice " + std::string(b.dim == 2 ? "sq " : "sc ") + num(b.dx));
+  const std::string zr = b.dim == 2 ? " -0.5 0.5" : " 0 " + std::to_string(b.n);
+  if (b.periodic)
+    cmd(lmp, "region box block 0 " + std::to_string(b.n) + " 0 " + std::to_string(b.n) +
+                 (b.dim == 2 ? " -0.5 0.5" : " 0 " + std::to_string(b.n)));
+  else
+    cmd(lmp, "region box block -0.25 " + std::to_string(b.n - 0.75) + " -0.25 " +
+                 std::to_string(b.n - 0.75) + zr);
+  cmd(lmp, "create_box 2 box");
+  cmd(lmp, "create_atoms 1 box");
+  cmd(lmp, "set group all density 7850");
+  const double vol = b.dim == 2 ? b.dx * b.dx * 1.0 : b.dx * b.dx * b.dx;
+  cmd(lmp, "set group all volume " + num(vol));
+  cmd(lmp, "neighbor " + num(0.5 * b.dx) + " bin");
+  cmd(lmp, "comm_modify cutoff " + num(b.delta() * 2.2));
+  cmd(lmp, "pair_style " + b.style + " " + b.settings);
+  char buf[256];
+  snprintf(buf, sizeof(buf), "pair_coeff * * %.17g %.17g %.17g", b.E, b.nu, b.delta());
+  cmd(lmp, buf);
+  cmd(lmp, "timestep 1e-9");
+  cmd(lmp, "thermo_modify norm no");
+}
+
+// Per-atom vectors by atom ID - 1 (serial tests: every atom is local).
+inline std::vector<std::array<double, 3>> by_tag(LAMMPS *lmp, double **v)
+{
+  const int n = lmp->atom->natoms;
+  std::vector<std::array<double, 3>> out(n);
+  for (int i = 0; i < lmp->atom->nlocal; i++) {
+    const int t = lmp->atom->tag[i] - 1;
+    out[t] = {v[i][0], v[i][1], v[i][2]};
+  }
+  return out;
+}
+
+inline double potential_energy(LAMMPS *lmp)
+{
+  auto *pe = lmp->modify->get_compute_by_id("thermo_pe");
+  return pe->compute_scalar();
+}
+
+}    // namespace nospdtest
+
+#endif
