@@ -1,0 +1,19 @@
+#!/bin/bash
+# Decomposition (1, 2, 4 MPI ranks) and restart invariance of one variant.
+# usage: run_invariance.sh LMP DIM "SETTINGS" WORKDIR
+set -euo pipefail
+LMP=$1; DIM=$2; SETTINGS=$3; WORK=$4
+HERE=$(cd "$(dirname "$0")" && pwd)
+mkdir -p "$WORK"; cd "$WORK"
+MPIRUN=(mpirun --allow-run-as-root --oversubscribe)
+run() { # nprocs mode out
+  "${MPIRUN[@]}" -np "$1" "$LMP" -in "$HERE/in.invariance" -log "$3.log" -screen none \
+    -var dim "$DIM" -var settings "$SETTINGS" -var mode "$2" -var out "$3"
+}
+run 1 full serial
+run 2 full np2
+run 4 full np4
+# restart split in the middle, on 2 ranks, continued on 1
+run 2 first split
+run 1 second split
+/usr/bin/python3 "$HERE/compare_dumps.py" 1e-12 serial.dump np2.dump np4.dump split.dump

@@ -1,0 +1,182 @@
+/* Bad input gets a LAMMPS error that names the command and the value,
+   never a crash or a silent NaN.  One test per error the style promises. */
+
+#include "nospd_test_util.h"
+
+#include "gmock/gmock.h"
+
+using namespace nospdtest;
+using ::testing::HasSubstr;
+
+namespace {
+
+class BadInput : public ::testing::Test {
+ protected:
+  LAMMPS *lmp = nullptr;
+  void SetUp() override { lmp = open_lammps(); }
+  void TearDown() override { delete lmp; }
+
+  // a valid 3D deck up to (not including) the pair style
+  void deck(const std::string &atom_style = "peri", bool map = true, const std::string &units = "si")
+  {
+    cmd(lmp, "units " + units);
+    cmd(lmp, "boundary s s s");
+    cmd(lmp, "atom_style " + atom_style);
+    if (map) cmd(lmp, "atom_modify map array");
+    cmd(lmp, "lattice sc 0.001");
+    cmd(lmp, "region box block -0.25 5.25 -0.25 5.25 -0.25 5.25");
+    cmd(lmp, "create_box 1 box");
+    cmd(lmp, "create_atoms 1 box");
+    if (atom_style == "peri") {
+      cmd(lmp, "set group all density 7850");
+      cmd(lmp, "set group all volume 1e-9");
+    } else {
+      cmd(lmp, "mass 1 1.0");
+    }
+  }
+};
+
+TEST_F(BadInput, WrongAtomStyle)
+{
+  deck("atomic");
+  cmd(lmp, "pair_style peri/nospd");
+  cmd(lmp, "pair_coeff * * 200e9 0.3 0.003");
+  EXPECT_THAT(error_of(lmp, "run 0"), HasSubstr("requires atom_style peri"));
+}
+
+TEST_F(BadInput, MissingAtomMap)
+{
+  deck("peri", false);
+  cmd(lmp, "pair_style peri/nospd");
+  cmd(lmp, "pair_coeff * * 200e9 0.3 0.003");
+  EXPECT_THAT(error_of(lmp, "run 0"), HasSubstr("atom_modify map"));
+}
+
+TEST_F(BadInput, ZeroVolume)
+{
+  deck();
+  cmd(lmp, "pair_style peri/nospd");
+  cmd(lmp, "pair_coeff * * 200e9 0.3 0.003");
+  // the set command refuses a zero volume itself; a zero from a data file or
+  // a variable must still be caught by the pair style
+  lmp->atom->vfrac[3] = 0.0;
+  const auto msg = error_of(lmp, "run 0");
+  EXPECT_THAT(msg, HasSubstr("volume (vfrac) = 0"));
+  EXPECT_THAT(msg, HasSubstr("atom 4"));
+}
+
+TEST_F(BadInput, NegativeDensity)
+{
+  deck();
+  cmd(lmp, "pair_style peri/nospd");
+  cmd(lmp, "pair_coeff * * 200e9 0.3 0.003");
+  lmp->atom->rmass[0] = -1.0;
+  EXPECT_THAT(error_of(lmp, "run 0"), HasSubstr("density (rmass) = -1"));
+}
+
+TEST_F(BadInput, PoissonTooLarge)
+{
+  deck();
+  cmd(lmp, "pair_style peri/nospd");
+  EXPECT_THAT(error_of(lmp, "pair_coeff * * 200e9 0.5 0.003"), HasSubstr("nu must be in (-1, 0.5), got 0.5"));
+}
+
+TEST_F(BadInput, PoissonPlaneStress)
+{
+  cmd(lmp, "dimension 2");
+  cmd(lmp, "units si");
+  cmd(lmp, "boundary s s p");
+  cmd(lmp, "atom_style peri");
+  cmd(lmp, "atom_modify map array");
+  cmd(lmp, "region box block 0 1 0 1 -0.5 0.5");
+  cmd(lmp, "create_box 1 box");
+  cmd(lmp, "pair_style peri/nospd plane stress");
+  // 0.7 is a valid plane-stress Poisson ratio for small strain, 1.0 is not
+  EXPECT_EQ(error_of(lmp, "pair_coeff * * 200e9 0.7 0.003"), "");
+  EXPECT_THAT(error_of(lmp, "pair_coeff * * 200e9 1.0 0.003"), HasSubstr("(-1, 1) in plane stress, got 1"));
+}
+
+TEST_F(BadInput, NegativeModulus)
+{
+  deck();
+  cmd(lmp, "pair_style peri/nospd");
+  EXPECT_THAT(error_of(lmp, "pair_coeff * * -2e9 0.3 0.003"), HasSubstr("Young's modulus E must be > 0, got -2"));
+}
+
+TEST_F(BadInput, NegativeHorizon)
+{
+  deck();
+  cmd(lmp, "pair_style peri/nospd");
+  EXPECT_THAT(error_of(lmp, "pair_coeff * * 2e9 0.3 -0.003"), HasSubstr("horizon delta must be > 0, got -0.003"));
+}
+
+TEST_F(BadInput, HorizonBelowSpacing)
+{
+  deck();
+  cmd(lmp, "pair_style peri/nospd");
+  cmd(lmp, "pair_coeff * * 200e9 0.3 0.0005");
+  EXPECT_THAT(error_of(lmp, "run 0"), HasSubstr("horizon 0.0005 of type 1 is smaller than the point spacing"));
+}
+
+TEST_F(BadInput, UnknownKeyword)
+{
+  deck();
+  EXPECT_THAT(error_of(lmp, "pair_style peri/nospd strain small wobble 3"), HasSubstr("unknown keyword 'wobble'"));
+  EXPECT_THAT(error_of(lmp, "pair_style peri/nospd strain large"), HasSubstr("unknown strain 'large'"));
+  EXPECT_THAT(error_of(lmp, "pair_style peri/nospd stabilization silling -1"),
+              HasSubstr("stabilization silling value must be > 0, got -1"));
+  EXPECT_THAT(error_of(lmp, "pair_style peri/nospd plane stress"), HasSubstr("plane applies to 2D only"));
+}
+
+TEST_F(BadInput, MaterialNotInFile)
+{
+  deck();
+  cmd(lmp, "pair_style peri/nospd");
+  EXPECT_THAT(error_of(lmp, "pair_coeff * * materials.nospd unobtainium 0.003"),
+              HasSubstr("material 'unobtainium' not found in file materials.nospd"));
+}
+
+TEST_F(BadInput, MaterialFileUnits)
+{
+  deck("peri", true, "metal");
+  cmd(lmp, "pair_style peri/nospd");
+  const auto msg = error_of(lmp, "pair_coeff * * materials.nospd steel 0.003");
+  EXPECT_THAT(msg, HasSubstr("si"));
+  EXPECT_THAT(msg, HasSubstr("metal"));
+}
+
+TEST_F(BadInput, MaterialFromFileWorks)
+{
+  deck();
+  cmd(lmp, "pair_style peri/nospd");
+  EXPECT_EQ(error_of(lmp, "pair_coeff * * materials.nospd steel 0.00301"), "");
+  EXPECT_EQ(error_of(lmp, "run 0"), "");
+}
+
+/* A line of atoms in 3D has singular shape tensors everywhere: they are
+   counted and reported, their own force states dropped, and no NaN. */
+TEST_F(BadInput, SingularFamiliesCountedNoNaN)
+{
+  cmd(lmp, "units si");
+  cmd(lmp, "boundary s s s");
+  cmd(lmp, "atom_style peri");
+  cmd(lmp, "atom_modify map array");
+  cmd(lmp, "lattice sc 0.001");
+  cmd(lmp, "region box block -0.25 10.25 -0.25 0.25 -0.25 0.25");
+  cmd(lmp, "create_box 1 box");
+  cmd(lmp, "create_atoms 1 box");
+  cmd(lmp, "set group all density 7850");
+  cmd(lmp, "set group all volume 1e-9");
+  cmd(lmp, "pair_style peri/nospd");
+  cmd(lmp, "pair_coeff * * 200e9 0.3 0.00301");
+  cmd(lmp, "neighbor 0.0005 nsq");
+  cmd(lmp, "displace_atoms all random 1e-5 1e-5 1e-5 4711 units box");
+  cmd(lmp, "run 0");
+  auto *fix = lmp->modify->get_fix_by_id("NOSPD_BONDS");
+  ASSERT_NE(fix, nullptr);
+  EXPECT_EQ((int) fix->compute_vector(2), (int) lmp->atom->natoms);
+  for (int i = 0; i < lmp->atom->nlocal; i++)
+    for (int k = 0; k < 3; k++) EXPECT_TRUE(std::isfinite(lmp->atom->f[i][k]));
+}
+
+}    // namespace
