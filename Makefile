@@ -33,7 +33,7 @@ bench: plugin
 
 doc:
 	bash cmake/lammps.sh deps
-	python3 -m sphinx -W -b html doc $(BUILD)/doc-html
+	/usr/bin/python3 -m sphinx -W -b html doc $(BUILD)/doc-html
 
 clean:
 	rm -rf $(BUILD)

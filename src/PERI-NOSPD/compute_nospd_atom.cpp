@@ -5,6 +5,7 @@
 #include "compute_nospd_atom.h"
 
 #include "atom.h"
+#include "domain.h"
 #include "error.h"
 #include "fix_nospd_bonds.h"
 #include "force.h"
@@ -148,7 +149,7 @@ double ComputeNospdAtom::zem_indicator(int i) const
     const NOSPD::Vec3 u(x[j][0] - x[i][0] - xi[0], x[j][1] - x[i][1] - xi[1],
                         x[j][2] - x[i][2] - xi[2]);
     NOSPD::Vec3 Hxi = H * xi;
-    if (atom->natoms && xi[2] == 0.0) Hxi[2] = 0.0;    // 2D: F33 is not a bond quantity
+    if (domain->dimension == 2) Hxi[2] = 0.0;    // 2D: F33 (plane stress) is not a bond quantity
     zz += w * (u - Hxi).squaredNorm();
     xx += w * xi.squaredNorm();
   }

@@ -104,6 +104,8 @@ void FixNospdBonds::setup_post_neighbor()
     build_families();
     first = 0;
   }
+  // also after a restart, where build_families() does not run
+  maxexchange = 2 * maxpartner + 20;
   build_bond_arrays();
   all_stale = true;    // after a restart or a change of settings
   update_shape_tensors();

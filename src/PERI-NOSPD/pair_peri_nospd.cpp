@@ -48,7 +48,7 @@ PairPeriNospd::PairPeriNospd(LAMMPS *lmp) :
     stab(Stab::SILLING), stab_param(0.5), influence(NospdBondModel::CONSTANT), thickness(1.0),
     singular_tol(1.0e-4), youngs(nullptr), poisson(nullptr), g0(nullptr),
     stab_scalar(nullptr), cut(nullptr), nmax_work(0), bmat(nullptr), tmat(nullptr),
-    moments(nullptr), comm_tensors(1)
+    moments(nullptr), stab_atom(nullptr), comm_tensors(1)
 {
   if (lmp->citeme) lmp->citeme->add(cite_nospd);
   single_enable = 0;
@@ -67,6 +67,7 @@ PairPeriNospd::~PairPeriNospd()
   memory->destroy(bmat);
   memory->destroy(tmat);
   memory->destroy(moments);
+  memory->destroy(stab_atom);
   if (allocated) {
     memory->destroy(setflag);
     memory->destroy(cutsq);
@@ -356,7 +357,7 @@ void PairPeriNospd::init_style()
     else stab_scalar[i] = 0.0;
   }
   comm_tensors = (stab == Stab::WAN || stab == Stab::HOURGLASS) ? 2 : 1;
-  comm_forward = 9 * comm_tensors;
+  comm_forward = 9 * comm_tensors + 1;
 
   ensure_bonds_fix();
   NospdBondModel model;
@@ -395,6 +396,8 @@ void PairPeriNospd::grow_work()
   memory->destroy(bmat);
   memory->destroy(tmat);
   memory->destroy(moments);
+  memory->destroy(stab_atom);
+  memory->create(stab_atom, nmax_work, "pair:stab_atom");
   memory->create(bmat, nmax_work, 9, "pair:bmat");
   memory->create(tmat, nmax_work, 9, "pair:tmat");
   memory->create(moments, nmax_work, 6, "pair:moments");
@@ -446,11 +449,14 @@ void PairPeriNospd::constitutive_pass(int eflag)
 
   for (int i = 0; i < nlocal; i++) {
     if (singular[i]) {
+      // no force state of its own: no stress, no stabilization
       for (int k = 0; k < 9; k++) bmat[i][k] = tmat[i][k] = pk1[i][k] = 0.0;
+      stab_atom[i] = 0.0;
       wdens[i] = 0.0;
       continue;
     }
     const int itype = type[i];
+    stab_atom[i] = stab_scalar[itype];
     Mat3 F = NOSPD::load(defgrad[i]);
     const Mat3 H = F - Mat3::Identity();
     const Mat3 Ki = NOSPD::load(kinv[i]);
@@ -515,7 +521,6 @@ template <int STAB, int VIRIAL> void PairPeriNospd::force_pass(int /*eflag*/)
 {
   double **x = atom->x;
   double **f = atom->f;
-  const int *type = atom->type;
   const int nlocal = atom->nlocal;
   double **x0s = fix_bonds->x0s;
   const int *bfirst = fix_bonds->bond_first;
@@ -527,7 +532,7 @@ template <int STAB, int VIRIAL> void PairPeriNospd::force_pass(int /*eflag*/)
   for (int i = 0; i < nlocal; i++) {
     const double *Bi = bmat[i];
     const double *Ti = tmat[i];
-    const double si = stab_scalar[type[i]];
+    const double si = stab_atom[i];
     const double xi0 = x0s[i][0], yi0 = x0s[i][1], zi0 = x0s[i][2];
     const double xc = x[i][0], yc = x[i][1], zc = x[i][2];
     double fx = 0.0, fy = 0.0, fz = 0.0;
@@ -552,7 +557,7 @@ template <int STAB, int VIRIAL> void PairPeriNospd::force_pass(int /*eflag*/)
         gz += Bi[6] * ex + Bi[7] * ey + Bi[8] * ez;
       }
       if (STAB == 1) {
-        const double s = VIRIAL ? si + stab_scalar[type[j]] : stab_scalar[type[j]];
+        const double s = VIRIAL ? si + stab_atom[j] : stab_atom[j];
         gx += s * ux;
         gy += s * uy;
         gz += s * uz;
@@ -567,7 +572,7 @@ template <int STAB, int VIRIAL> void PairPeriNospd::force_pass(int /*eflag*/)
           gz += Ti[6] * ux + Ti[7] * uy + Ti[8] * uz;
         }
       } else if (STAB == 2) {
-        const NOSPD::Vec3 h = NOSPD::hourglass_pair(si, Hi, stab_scalar[type[j]],
+        const NOSPD::Vec3 h = NOSPD::hourglass_pair(si, Hi, stab_atom[j],
                                                     NOSPD::load(tmat[j]), {ex, ey, ez},
                                                     {ux, uy, uz});
         gx += h[0];
@@ -629,6 +634,7 @@ int PairPeriNospd::pack_forward_comm(int n, int *list, double *buf, int /*pbc_fl
     for (int k = 0; k < 9; k++) buf[m++] = bmat[i][k];
     if (comm_tensors == 2)
       for (int k = 0; k < 9; k++) buf[m++] = tmat[i][k];
+    buf[m++] = stab_atom[i];
   }
   return m;
 }
@@ -643,6 +649,7 @@ void PairPeriNospd::unpack_forward_comm(int n, int first, double *buf)
     for (int k = 0; k < 9; k++) bmat[i][k] = buf[m++];
     if (comm_tensors == 2)
       for (int k = 0; k < 9; k++) tmat[i][k] = buf[m++];
+    stab_atom[i] = buf[m++];
   }
 }
 
@@ -725,7 +732,7 @@ void PairPeriNospd::read_restart_settings(FILE *fp)
 
 double PairPeriNospd::memory_usage()
 {
-  return (double) nmax_work * (9 + 9 + 6) * sizeof(double);
+  return (double) nmax_work * (9 + 9 + 6 + 1) * sizeof(double);
 }
 
 /* ---------------------------------------------------------------------- */

@@ -75,6 +75,7 @@ class PairPeriNospd : public Pair {
   // and S (Wan) or H (hourglass) where the stabilization needs a tensor
   int nmax_work;
   double **bmat, **tmat, **moments;
+  double *stab_atom;   // per-atom stabilization scalar: 0 where K is singular
   int comm_tensors;    // 1 or 2 tensors of 9 in the forward comm
 
   void allocate();
