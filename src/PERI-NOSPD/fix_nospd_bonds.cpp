@@ -100,16 +100,33 @@ void FixNospdBonds::setup(int /*vflag*/) {}
 void FixNospdBonds::setup_post_neighbor()
 {
   update_x0s();
+  const bool built_now = first;
   if (first) {
     build_families();
     first = 0;
   }
   // also after a restart, where build_families() does not run
-  maxexchange = 2 * maxpartner + 20;
+  maxexchange = maxpartner + 20;
   build_bond_arrays();
   all_stale = true;    // after a restart or a change of settings
   update_shape_tensors();
   count_bonds();
+  if (built_now) report_families();
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixNospdBonds::report_families()
+{
+  double bytes = memory_usage(), all_bytes;
+  MPI_Allreduce(&bytes, &all_bytes, 1, MPI_DOUBLE, MPI_SUM, world);
+  if (comm->me == 0) {
+    const double natoms = (double) MAX(atom->natoms, 1);
+    utils::logmesg(lmp,
+                   "PERI-NOSPD bond families (fix {}):\n  bonds = {}, bonds/point = {:.6g}, "
+                   "singular families = {}\n  bond and reference state = {:.0f} bytes/point\n",
+                   id, nbonds_total, nbonds_total / natoms, nsingular, all_bytes / natoms);
+  }
 }
 
 /* ---------------------------------------------------------------------- */
@@ -179,7 +196,7 @@ void FixNospdBonds::build_families()
 
   struct Member {
     tagint tag;
-    double r, vol;
+    double vol;
     bool operator<(const Member &o) const { return tag < o.tag; }
   };
   std::vector<std::vector<Member>> fam(nlocal);
@@ -192,7 +209,7 @@ void FixNospdBonds::build_families()
       const double dz = x0s[j][2] - x0s[i][2];
       const double rsq = dx * dx + dy * dy + dz * dz;
       const double delta = horizon[type[i]][type[j]];
-      if (rsq <= delta * delta && rsq > 0.0) fam[i].push_back({tag[j], sqrt(rsq), vfrac[j]});
+      if (rsq <= delta * delta && rsq > 0.0) fam[i].push_back({tag[j], vfrac[j]});
     }
   }
 
@@ -225,11 +242,10 @@ void FixNospdBonds::build_families()
     wvolume[i] = 0.0;
     for (int n = 0; n < npartner[i]; n++) {
       partner[i][n] = fam[i][n].tag;
-      r0[i][n] = fam[i][n].r;
       vinter[i] += fam[i][n].vol;    // read by compute damage/atom
     }
   }
-  maxexchange = 2 * maxpartner + 20;
+  maxexchange = maxpartner + 20;
 }
 
 /* ----------------------------------------------------------------------
@@ -254,7 +270,7 @@ void FixNospdBonds::build_bond_arrays()
   bigint ntot = 0;
   for (int i = 0; i < nlocal; i++) ntot += npartner[i];
   if (ntot > nmax_bonds) {
-    nmax_bonds = (int) (1.2 * ntot) + 16;
+    nmax_bonds = (int) (1.02 * ntot) + 16;
     memory->destroy(bond_j);
     memory->destroy(bond_slot);
     memory->destroy(bond_w);
@@ -378,7 +394,11 @@ void FixNospdBonds::count_bonds()
 
 void FixNospdBonds::compute_deformation(double **moments)
 {
-  double **x = atom->x;
+  // flat views of the per-atom arrays: one load per value in the inner loop
+  const double *_noalias const xf = atom->x[0];
+  const double *_noalias const x0f = x0s[0];
+  const int *_noalias const bj = bond_j;
+  const double *_noalias const bw = bond_w;
   const int nlocal = atom->nlocal;
   for (int i = 0; i < nlocal; i++) {
     double *F = defgrad[i];
@@ -389,17 +409,19 @@ void FixNospdBonds::compute_deformation(double **moments)
       u_moment[i][0] = u_moment[i][1] = u_moment[i][2] = 0.0;
       continue;
     }
-    const double xi0 = x0s[i][0], yi0 = x0s[i][1], zi0 = x0s[i][2];
-    const double xi = x[i][0], yi = x[i][1], zi = x[i][2];
+    const double xi0 = x0f[3 * i], yi0 = x0f[3 * i + 1], zi0 = x0f[3 * i + 2];
+    const double xi = xf[3 * i], yi = xf[3 * i + 1], zi = xf[3 * i + 2];
     double n[9] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
     double m[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
     double sx = 0.0, sy = 0.0, sz = 0.0;
     const int bend = bond_first[i + 1];
     for (int b = bond_first[i]; b < bend; b++) {
-      const int j = bond_j[b];
-      const double w = bond_w[b];
-      const double ex = x0s[j][0] - xi0, ey = x0s[j][1] - yi0, ez = x0s[j][2] - zi0;
-      const double ux = (x[j][0] - xi) - ex, uy = (x[j][1] - yi) - ey, uz = (x[j][2] - zi) - ez;
+      const int j = bj[b];
+      const double w = bw[b];
+      const double *X0j = x0f + 3 * j;
+      const double *Xj = xf + 3 * j;
+      const double ex = X0j[0] - xi0, ey = X0j[1] - yi0, ez = X0j[2] - zi0;
+      const double ux = (Xj[0] - xi) - ex, uy = (Xj[1] - yi) - ey, uz = (Xj[2] - zi) - ez;
       const double wx = w * ux, wy = w * uy, wz = w * uz;
       sx += wx;
       sy += wy;
@@ -469,8 +491,9 @@ double FixNospdBonds::compute_vector(int n)
 
 double FixNospdBonds::memory_usage()
 {
-  double bytes = FixPeriNeigh::memory_usage();
   const double nmax = atom->nmax;
+  double bytes = nmax * (sizeof(int) + 2 * sizeof(double));
+  bytes += nmax * maxpartner * sizeof(tagint);
   bytes += nmax * (3 * 9 + 2 * 3 + 1) * sizeof(double) + 2 * nmax * sizeof(int);
   bytes += (double) nmax_first * sizeof(int);
   bytes += (double) nmax_bonds * (2 * sizeof(int) + sizeof(double));
@@ -482,7 +505,12 @@ double FixNospdBonds::memory_usage()
 
 void FixNospdBonds::grow_arrays(int nmax)
 {
-  FixPeriNeigh::grow_arrays(nmax);
+  // FixPeriNeigh's arrays less r0: bond vectors come from x0, so the
+  // reference length is never stored (8 bytes per bond saved)
+  memory->grow(npartner, nmax, "nospd/bonds:npartner");
+  memory->grow(partner, nmax, maxpartner, "nospd/bonds:partner");
+  memory->grow(vinter, nmax, "nospd/bonds:vinter");
+  memory->grow(wvolume, nmax, "nospd/bonds:wvolume");
   memory->grow(kinv, nmax, 9, "nospd/bonds:kinv");
   memory->grow(xi_moment, nmax, 3, "nospd/bonds:xi_moment");
   memory->grow(u_moment, nmax, 3, "nospd/bonds:u_moment");
@@ -495,9 +523,12 @@ void FixNospdBonds::grow_arrays(int nmax)
 
 /* ---------------------------------------------------------------------- */
 
-void FixNospdBonds::copy_arrays(int i, int j, int delflag)
+void FixNospdBonds::copy_arrays(int i, int j, int /*delflag*/)
 {
-  FixPeriNeigh::copy_arrays(i, j, delflag);
+  npartner[j] = npartner[i];
+  for (int m = 0; m < npartner[j]; m++) partner[j][m] = partner[i][m];
+  vinter[j] = vinter[i];
+  wvolume[j] = wvolume[i];
   for (int k = 0; k < 9; k++) {
     kinv[j][k] = kinv[i][k];
     defgrad[j][k] = defgrad[i][k];
@@ -519,7 +550,12 @@ void FixNospdBonds::copy_arrays(int i, int j, int delflag)
 
 int FixNospdBonds::pack_exchange(int i, double *buf)
 {
-  int m = FixPeriNeigh::pack_exchange(i, buf);
+  // intact partners only: broken slots are dropped in transit
+  int m = 1;
+  for (int n = 0; n < npartner[i]; n++)
+    if (partner[i][n]) buf[m++] = partner[i][n];
+  buf[0] = m - 1;
+  buf[m++] = vinter[i];
   buf[m++] = singular[i];
   buf[m++] = stale[i];
   for (int k = 0; k < 9; k++) buf[m++] = kinv[i][k];
@@ -531,10 +567,64 @@ int FixNospdBonds::pack_exchange(int i, double *buf)
 
 int FixNospdBonds::unpack_exchange(int nlocal, double *buf)
 {
-  int m = FixPeriNeigh::unpack_exchange(nlocal, buf);
+  int m = 0;
+  npartner[nlocal] = static_cast<int>(buf[m++]);
+  for (int n = 0; n < npartner[nlocal]; n++) partner[nlocal][n] = static_cast<tagint>(buf[m++]);
+  vinter[nlocal] = buf[m++];
+  wvolume[nlocal] = 0.0;
   singular[nlocal] = static_cast<int>(buf[m++]);
   stale[nlocal] = static_cast<int>(buf[m++]);
   for (int k = 0; k < 9; k++) kinv[nlocal][k] = buf[m++];
   for (int k = 0; k < 3; k++) xi_moment[nlocal][k] = buf[m++];
   return m;
+}
+
+/* ----------------------------------------------------------------------
+   restart: the families (intact partners only) and the partner volume sum;
+   K^-1 and the bond arrays are rebuilt from them at setup
+------------------------------------------------------------------------- */
+
+int FixNospdBonds::pack_restart(int i, double *buf)
+{
+  int m = 2;
+  for (int n = 0; n < npartner[i]; n++)
+    if (partner[i][n]) buf[m++] = partner[i][n];
+  buf[1] = m - 2;
+  buf[m++] = vinter[i];
+  buf[0] = m;    // first value: size of this fix's record, as Atom expects
+  return m;
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixNospdBonds::unpack_restart(int nlocal, int nth)
+{
+  double **extra = atom->extra;
+  int m = 0;
+  for (int i = 0; i < nth; i++) m += static_cast<int>(extra[nlocal][m]);
+  m++;
+  npartner[nlocal] = static_cast<int>(extra[nlocal][m++]);
+  for (int n = 0; n < npartner[nlocal]; n++)
+    partner[nlocal][n] = static_cast<tagint>(extra[nlocal][m++]);
+  vinter[nlocal] = extra[nlocal][m++];
+  wvolume[nlocal] = 0.0;
+  singular[nlocal] = 0;
+  stale[nlocal] = 1;
+}
+
+/* ---------------------------------------------------------------------- */
+
+int FixNospdBonds::maxsize_restart()
+{
+  return maxpartner + 3;
+}
+
+/* ---------------------------------------------------------------------- */
+
+int FixNospdBonds::size_restart(int nlocal)
+{
+  int n = 0;
+  for (int k = 0; k < npartner[nlocal]; k++)
+    if (partner[nlocal][k]) n++;
+  return n + 3;
 }

@@ -26,8 +26,8 @@ struct NospdBondModel {
 };
 
 /* Owner of the bond families and of the reference and deformation state.
-   Builds on FixPeriNeigh (partner tags, migration and restart of the
-   families, compute damage/atom) and adds:
+   Builds on FixPeriNeigh (partner tags and the partner volume sum that
+   compute damage/atom reads; its per-bond r0 is not kept) and adds:
      - families built from x0 (minimum-imaged) before the first force call;
      - contiguous per-owned-atom bond arrays (CSR): local partner index and
        weight omega*V_j, refreshed once per reneighboring;
@@ -52,6 +52,10 @@ class FixNospdBonds : public FixPeriNeigh {
   void copy_arrays(int, int, int) override;
   int pack_exchange(int, double *) override;
   int unpack_exchange(int, double *) override;
+  int pack_restart(int, double *) override;
+  void unpack_restart(int, int) override;
+  int size_restart(int) override;
+  int maxsize_restart() override;
 
   void set_model(const NospdBondModel &m) { model = m; }
   const NospdBondModel &get_model() const { return model; }
@@ -85,7 +89,6 @@ class FixNospdBonds : public FixPeriNeigh {
 
   using FixPeriNeigh::npartner;
   using FixPeriNeigh::partner;
-  using FixPeriNeigh::r0;
   using FixPeriNeigh::vinter;
   using FixPeriNeigh::maxpartner;
 
@@ -101,6 +104,7 @@ class FixNospdBonds : public FixPeriNeigh {
   void build_bond_arrays();
   void update_shape_tensors();
   void count_bonds();
+  void report_families();
   double weight(double r, double delta) const;
 };
 

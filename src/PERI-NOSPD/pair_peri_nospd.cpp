@@ -519,22 +519,26 @@ void PairPeriNospd::tally_energy(int i, double e)
 
 template <int STAB, int VIRIAL> void PairPeriNospd::force_pass(int /*eflag*/)
 {
-  double **x = atom->x;
+  // flat views of the per-atom arrays: one load per value in the inner loop
+  const double *_noalias const xf = atom->x[0];
+  const double *_noalias const x0f = fix_bonds->x0s[0];
+  const double *_noalias const bf = bmat[0];
+  const double *_noalias const tf = tmat[0];
+  const double *_noalias const sa = stab_atom;
   double **f = atom->f;
   const int nlocal = atom->nlocal;
-  double **x0s = fix_bonds->x0s;
-  const int *bfirst = fix_bonds->bond_first;
-  const int *bj = fix_bonds->bond_j;
-  const double *bw = fix_bonds->bond_w;
+  const int *_noalias const bfirst = fix_bonds->bond_first;
+  const int *_noalias const bj = fix_bonds->bond_j;
+  const double *_noalias const bw = fix_bonds->bond_w;
   double **ximom = fix_bonds->xi_moment;
   double **umom = fix_bonds->u_moment;
 
   for (int i = 0; i < nlocal; i++) {
-    const double *Bi = bmat[i];
-    const double *Ti = tmat[i];
-    const double si = stab_atom[i];
-    const double xi0 = x0s[i][0], yi0 = x0s[i][1], zi0 = x0s[i][2];
-    const double xc = x[i][0], yc = x[i][1], zc = x[i][2];
+    const double *Bi = bf + 9 * i;
+    const double *Ti = tf + 9 * i;
+    const double si = sa[i];
+    const double xi0 = x0f[3 * i], yi0 = x0f[3 * i + 1], zi0 = x0f[3 * i + 2];
+    const double xc = xf[3 * i], yc = xf[3 * i + 1], zc = xf[3 * i + 2];
     double fx = 0.0, fy = 0.0, fz = 0.0;
     double v[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
     Mat3 Hi;
@@ -544,10 +548,12 @@ template <int STAB, int VIRIAL> void PairPeriNospd::force_pass(int /*eflag*/)
     for (int b = bfirst[i]; b < bend; b++) {
       const int j = bj[b];
       const double w = bw[b];
-      const double ex = x0s[j][0] - xi0, ey = x0s[j][1] - yi0, ez = x0s[j][2] - zi0;
-      const double yx = x[j][0] - xc, yy = x[j][1] - yc, yz = x[j][2] - zc;
+      const double *X0j = x0f + 3 * j;
+      const double *Xj = xf + 3 * j;
+      const double ex = X0j[0] - xi0, ey = X0j[1] - yi0, ez = X0j[2] - zi0;
+      const double yx = Xj[0] - xc, yy = Xj[1] - yc, yz = Xj[2] - zc;
       const double ux = yx - ex, uy = yy - ey, uz = yz - ez;
-      const double *Bj = bmat[j];
+      const double *Bj = bf + 9 * j;
       double gx = Bj[0] * ex + Bj[1] * ey + Bj[2] * ez;
       double gy = Bj[3] * ex + Bj[4] * ey + Bj[5] * ez;
       double gz = Bj[6] * ex + Bj[7] * ey + Bj[8] * ez;
@@ -557,12 +563,12 @@ template <int STAB, int VIRIAL> void PairPeriNospd::force_pass(int /*eflag*/)
         gz += Bi[6] * ex + Bi[7] * ey + Bi[8] * ez;
       }
       if (STAB == 1) {
-        const double s = VIRIAL ? si + stab_atom[j] : stab_atom[j];
+        const double s = VIRIAL ? si + sa[j] : sa[j];
         gx += s * ux;
         gy += s * uy;
         gz += s * uz;
       } else if (STAB == 3) {
-        const double *Tj = tmat[j];
+        const double *Tj = tf + 9 * j;
         gx += Tj[0] * ux + Tj[1] * uy + Tj[2] * uz;
         gy += Tj[3] * ux + Tj[4] * uy + Tj[5] * uz;
         gz += Tj[6] * ux + Tj[7] * uy + Tj[8] * uz;
@@ -572,12 +578,25 @@ template <int STAB, int VIRIAL> void PairPeriNospd::force_pass(int /*eflag*/)
           gz += Ti[6] * ux + Ti[7] * uy + Ti[8] * uz;
         }
       } else if (STAB == 2) {
-        const NOSPD::Vec3 h = NOSPD::hourglass_pair(si, Hi, stab_atom[j],
-                                                    NOSPD::load(tmat[j]), {ex, ey, ez},
-                                                    {ux, uy, uz});
-        gx += h[0];
-        gy += h[1];
-        gz += h[2];
+        // hourglass: (c_i z_i + c_j z_j).Y / (|Y|^2 |xi|) Y, z = U - H xi
+        const double *Hj = tf + 9 * j;
+        const double hix = Hi(0, 0) * ex + Hi(0, 1) * ey + Hi(0, 2) * ez;
+        const double hiy = Hi(1, 0) * ex + Hi(1, 1) * ey + Hi(1, 2) * ez;
+        const double hiz = Hi(2, 0) * ex + Hi(2, 1) * ey + Hi(2, 2) * ez;
+        const double hjx = Hj[0] * ex + Hj[1] * ey + Hj[2] * ez;
+        const double hjy = Hj[3] * ex + Hj[4] * ey + Hj[5] * ez;
+        const double hjz = Hj[6] * ex + Hj[7] * ey + Hj[8] * ez;
+        const double sj = sa[j];
+        const double zx = si * (ux - hix) + sj * (ux - hjx);
+        const double zy = si * (uy - hiy) + sj * (uy - hjy);
+        const double zz = si * (uz - hiz) + sj * (uz - hjz);
+        const double ry2 = yx * yx + yy * yy + yz * yz;
+        if (ry2 > 0.0) {
+          const double c = (zx * yx + zy * yy + zz * yz) / (ry2 * sqrt(ex * ex + ey * ey + ez * ez));
+          gx += c * yx;
+          gy += c * yy;
+          gz += c * yz;
+        }
       }
       fx += w * gx;
       fy += w * gy;

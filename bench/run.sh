@@ -1,0 +1,37 @@
+#!/bin/bash
+# Throughput benchmark (not part of the test suite): LAMMPS's peri/pmb and
+# peri/lps against peri/nospd variants, same scene, same machine, same run.
+# usage: bench/run.sh LMP PLUGIN_DIR [n] [steps] [repeats]
+# Writes bench/results/throughput.csv and prints ratios to peri/lps.
+set -euo pipefail
+LMP=$1; PLUGIN_DIR=$2; N=${3:-41}; STEPS=${4:-50}; REPEATS=${5:-3}
+HERE=$(cd "$(dirname "$0")" && pwd)
+OUT=$HERE/results; mkdir -p "$OUT"
+export LAMMPS_PLUGIN_PATH=$(cd "$PLUGIN_DIR" && pwd) OMP_NUM_THREADS=1
+CSV=$OUT/throughput.csv
+echo "model,settings,points,steps,best_loop_s,point_steps_per_s,ratio_to_lps,state_bytes_per_point" > "$CSV"
+declare -a MODELS=("pmb|" "lps|" "nospd|stabilization none" "nospd|stabilization silling 0.5"
+  "nospd|stabilization hourglass 0.2" "nospd|stabilization wan" "nospd|strain finite"
+  "nospd|strain neohookean")
+lps_rate=""
+for m in "${MODELS[@]}"; do
+  style=${m%%|*}; settings=${m#*|}
+  best=""
+  for r in $(seq "$REPEATS"); do
+    "$LMP" -in "$HERE/in.block" -var n "$N" -var style "$style" -var settings "$settings" \
+      -var steps "$STEPS" -log none -screen "$OUT/screen.txt"
+    t=$(grep "Loop time" "$OUT/screen.txt" | tail -1 | awk '{print $4}')
+    best=$(awk -v a="${best:-1e30}" -v b="$t" 'BEGIN{print (b<a)?b:a}')
+  done
+  points=$(grep "Loop time" "$OUT/screen.txt" | tail -1 | awk '{print $(NF-1)}')
+  mem=$(awk '/bond and reference state/{print $(NF-1)}' "$OUT/screen.txt")
+  # the pair style's per-point work arrays: B, T (9+9), energy moments (6), one scalar
+  [ -n "$mem" ] && mem=$((mem + 25 * 8))
+  rate=$(awk -v p="$points" -v s="$STEPS" -v t="$best" 'BEGIN{printf "%.4g", p*s/t}')
+  [ "$style" = lps ] && lps_rate=$rate
+  ratio=$(awk -v a="$rate" -v b="${lps_rate:-0}" 'BEGIN{ if (b>0) printf "%.3g", a/b; else print "" }')
+  echo "peri/$style,$settings,$points,$STEPS,$best,$rate,$ratio,${mem:-}" >> "$CSV"
+  printf "%-10s %-34s %9s point-steps/s  x%-6s vs peri/lps  %s B/point\n" "peri/$style" "$settings" "$rate" "$ratio" "${mem:-n/a}"
+done
+rm -f "$OUT/screen.txt"
+echo "wrote $CSV"
