@@ -27,7 +27,7 @@ using namespace FixConst;
 /* ---------------------------------------------------------------------- */
 
 FixNospdBonds::FixNospdBonds(LAMMPS *lmp, int narg, char **arg) :
-    FixPeriNeigh(lmp, narg, arg), nbond_atoms(0), bond_first(nullptr), bond_j(nullptr),
+    FixPeriNeigh(lmp, narg, arg), nbond_atoms(0), bond_version(0), bond_first(nullptr), bond_j(nullptr),
     bond_slot(nullptr), bond_w(nullptr), x0s(nullptr), kinv(nullptr), xi_moment(nullptr), u_moment(nullptr), singular(nullptr),
     defgrad(nullptr), pk1(nullptr), energy_density(nullptr), nsingular(0), nbonds_total(0),
     nbonds_broken(0), nmax_bonds(0), nmax_first(0), nmax_x0s(0), stale(nullptr),
@@ -308,6 +308,7 @@ void FixNospdBonds::build_bond_arrays()
   }
   bond_first[nlocal] = b;
   nbond_atoms = nlocal;
+  bond_version++;
 
   int anymissing = 0;
   MPI_Allreduce(&nmissing, &anymissing, 1, MPI_INT, MPI_SUM, world);

@@ -72,6 +72,7 @@ class FixNospdBonds : public FixPeriNeigh {
 
   // ---- state read by pair styles, computes and the damage fix ----
   int nbond_atoms;        // owned atoms covered by the CSR arrays
+  int bond_version;       // incremented whenever the CSR arrays are rebuilt
   int *bond_first;        // [nlocal+1] offsets into bond_j/bond_w
   int *bond_j;            // local index of the partner (closest image)
   int *bond_slot;         // partner slot in FixPeriNeigh::partner[i]

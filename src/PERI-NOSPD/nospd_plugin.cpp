@@ -11,7 +11,9 @@
 
 #include "compute_nospd_atom.h"
 #include "fix_nospd_bonds.h"
+#include "fix_nospd_damage.h"
 #include "pair_peri_nospd.h"
+#include "pair_peri_nospd_hs.h"
 
 #include <cstring>
 
@@ -38,10 +40,22 @@ Pair *pair_nospd_creator(LAMMPS *lmp)
   return new PairPeriNospd(lmp);
 }
 
+Pair *pair_nospd_hs_creator(LAMMPS *lmp)
+{
+  version_ok(lmp, "pair peri/nospd/hs");
+  return new PairPeriNospdHS(lmp);
+}
+
 Fix *fix_bonds_creator(LAMMPS *lmp, int argc, char **argv)
 {
   version_ok(lmp, "fix PERI_NEIGH/NOSPD");
   return new FixNospdBonds(lmp, argc, argv);
+}
+
+Fix *fix_damage_creator(LAMMPS *lmp, int argc, char **argv)
+{
+  version_ok(lmp, "fix nospd/damage");
+  return new FixNospdDamage(lmp, argc, argv);
 }
 
 Compute *compute_atom_creator(LAMMPS *lmp, int argc, char **argv)
@@ -66,6 +80,12 @@ extern "C" void lammpsplugin_init(void *lmp, void *handle, void *regfunc)
   plugin.creator.v1 = (lammpsplugin_factory1 *) &pair_nospd_creator;
   (*register_plugin)(&plugin, lmp);
 
+  plugin.style = "pair";
+  plugin.name = "peri/nospd/hs";
+  plugin.info = "PERI-NOSPD horizon-stabilized (bond-associated) correspondence peridynamics";
+  plugin.creator.v1 = (lammpsplugin_factory1 *) &pair_nospd_hs_creator;
+  (*register_plugin)(&plugin, lmp);
+
   plugin.style = "fix";
   plugin.name = "PERI_NEIGH/NOSPD";
   plugin.info = "PERI-NOSPD bond families, reference and deformation state";
@@ -76,5 +96,11 @@ extern "C" void lammpsplugin_init(void *lmp, void *handle, void *regfunc)
   plugin.name = "nospd/atom";
   plugin.info = "PERI-NOSPD per-atom F, strain, stress, von Mises, energy, zero-energy-mode indicator";
   plugin.creator.v2 = (lammpsplugin_factory2 *) &compute_atom_creator;
+  (*register_plugin)(&plugin, lmp);
+
+  plugin.style = "fix";
+  plugin.name = "nospd/damage";
+  plugin.info = "PERI-NOSPD bond breaking, pre-cracks and contact";
+  plugin.creator.v2 = (lammpsplugin_factory2 *) &fix_damage_creator;
   (*register_plugin)(&plugin, lmp);
 }

@@ -51,6 +51,9 @@ class PairPeriNospd : public Pair {
   FixNospdBonds *bonds() const { return fix_bonds; }
   const NOSPD::Lame &material(int itype) const { return lame[itype]; }
   double fracture_energy(int itype) const { return g0[itype]; }
+  double youngs_modulus(int itype) const { return youngs[itype]; }
+  double poisson_ratio(int itype) const { return poisson[itype]; }
+  double plate_thickness() const { return thickness; }
   double horizon(int itype, int jtype) const { return cut[itype][jtype]; }
   int stabilization_kind() const { return static_cast<int>(stab); }
 

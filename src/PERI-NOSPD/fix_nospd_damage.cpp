@@ -1,0 +1,878 @@
+/* ----------------------------------------------------------------------
+   PERI-NOSPD: correspondence peridynamics for LAMMPS.
+   Damage: bond-breaking criteria, pre-cracks, singular families, contact.
+
+   Symmetry of breaking.  A bond (i,j) lives in the partner lists of both
+   i and j, which may be owned by different MPI ranks; each owner decides
+   for its own slot.  The two decisions agree bit for bit because every
+   number that enters them is the same on both ranks:
+     - reference bond vectors come from x0, which ghosts carry unshifted,
+       minimum-imaged (an operation symmetric under negation);
+     - displacements u = x - x0 are computed by each atom's owner and
+       forward-communicated unchanged, so Y = xi + (u_j - u_i) is exact on
+       both sides (periodic image shifts never enter);
+     - per-atom tensors (A = P K^-1, stress, strain) and flags are
+       forward-communicated from their owners;
+     - every bond is evaluated in the order (lower ID, higher ID), and the
+       scatter factor is a hash of the two reference positions.
+   The total number of slots broken in a step is checked to be even.
+
+   Timing.  The state of each atom (A, stress or strain) is stored after
+   the force computation of a step (post_force); the criteria are
+   evaluated at the start of the next force computation (pre_force) from
+   the current positions and that state, and broken bonds leave K and F
+   before the forces are computed.  The forces of a step therefore belong
+   to the bond state a restart file written after that step holds, and a
+   run continued from it breaks the same bonds as an uninterrupted one.
+------------------------------------------------------------------------- */
+
+#include "fix_nospd_damage.h"
+
+#include "atom.h"
+#include "citeme.h"
+#include "comm.h"
+#include "domain.h"
+#include "error.h"
+#include "fix_nospd_bonds.h"
+#include "force.h"
+#include "group.h"
+#include "memory.h"
+#include "modify.h"
+#include "neigh_list.h"
+#include "neigh_request.h"
+#include "neighbor.h"
+#include "pair_peri_nospd.h"
+#include "region.h"
+#include "update.h"
+
+#include "nospd_damage.h"
+
+#include <cmath>
+#include <cstring>
+
+using namespace LAMMPS_NS;
+using namespace FixConst;
+using NOSPD::Mat3;
+
+static const char cite_damage[] =
+    "fix nospd/damage: doi:10.1016/j.compstruc.2004.11.026\n\n"
+    "@Article{SillingAskari05,\n"
+    " author = {S. A. Silling and E. Askari},\n"
+    " title = {A Meshfree Method Based on the Peridynamic Model of Solid Mechanics},\n"
+    " journal = {Comput.\\ Struct.},\n"
+    " year =    2005,\n"
+    " volume =  83,\n"
+    " pages =   {1526--1535}\n"
+    "}\n\n";
+
+namespace {
+enum { NONE = -1 };
+
+/* Minimum image of a difference vector, without the per-call overhead of
+   Domain::minimum_image (orthogonal boxes; triclinic boxes use it).  Like
+   it, symmetric under negation: mi(-d) = -mi(d) bit for bit. */
+inline void min_image(const Domain *domain, double *d)
+{
+  if (domain->triclinic) {
+    domain->minimum_image(FLERR, d);
+    return;
+  }
+  if (domain->xperiodic)
+    while (fabs(d[0]) > domain->xprd_half) d[0] += (d[0] < 0.0) ? domain->xprd : -domain->xprd;
+  if (domain->yperiodic)
+    while (fabs(d[1]) > domain->yprd_half) d[1] += (d[1] < 0.0) ? domain->yprd : -domain->yprd;
+  if (domain->zperiodic)
+    while (fabs(d[2]) > domain->zprd_half) d[2] += (d[2] < 0.0) ? domain->zprd : -domain->zprd;
+}
+
+constexpr int FLAG_NOFAIL = 1;
+constexpr int FLAG_SINGULAR = 2;
+constexpr int FLAG_INGROUP = 4;
+}    // namespace
+
+/* ---------------------------------------------------------------------- */
+
+FixNospdDamage::FixNospdDamage(LAMMPS *lmp, int narg, char **arg) :
+    Fix(lmp, narg, arg), criterion(NONE), from_g0(false), value(0.0), g0_given(false),
+    scatter_width(0.0), alpha(0.0), scatter_seed(0), nevery(1), nofail_groupbit(0),
+    nofail_region_id(nullptr), nofail_region(nullptr), detach_singular(false), contact(false),
+    contact_scale(15.0), contact_radius(0.0), contact_rc(0.0), list(nullptr), pair(nullptr),
+    bonds(nullptr), crit(nullptr), kcontact(nullptr), delta(nullptr), nstate(0), state(nullptr), ncomm(4), nmax_comm(0),
+    cdata(nullptr), precracks_done(false), nbroken_total(0), nbroken_step(0), ncontact(0)
+{
+  if (lmp->citeme) lmp->citeme->add(cite_damage);
+  const std::string cmd = std::string("fix ") + style;
+  if (narg < 4) error->all(FLERR, "Illegal {} command: missing criterion", cmd);
+
+  vector_flag = 1;
+  size_vector = 5;
+  global_freq = 1;
+  extvector = 0;
+  restart_global = 1;
+
+  auto number = [&](int i) { return utils::numeric(FLERR, arg[i], false, lmp); };
+  auto need = [&](int iarg, int n, const std::string &key) {
+    if (iarg + n >= narg) error->all(FLERR, "{}: {} needs {} value(s)", cmd, key, n);
+  };
+
+  int iarg = 3;
+  const std::string c = arg[iarg];
+  if (c == "none") {
+    criterion = NONE;
+    iarg += 1;
+  } else if (c == "stretch" || c == "energy") {
+    need(iarg, 1, c);
+    criterion = (c == "stretch") ? STRETCH : ENERGY;
+    if (strcmp(arg[iarg + 1], "g0") == 0) {
+      from_g0 = true;
+      iarg += 2;
+      if (iarg < narg && utils::is_double(arg[iarg])) {
+        value = number(iarg);
+        g0_given = true;
+        if (!(value > 0.0)) error->all(FLERR, "{}: fracture energy G0 must be > 0, got {}", cmd, arg[iarg]);
+        iarg++;
+      }
+    } else {
+      value = number(iarg + 1);
+      if (!(value > 0.0))
+        error->all(FLERR, "{}: critical {} must be > 0, got {}", cmd,
+                   criterion == STRETCH ? "stretch" : "bond energy", arg[iarg + 1]);
+      iarg += 2;
+    }
+  } else if (c == "stress" || c == "strain") {
+    need(iarg, 2, c);
+    const std::string kind = arg[iarg + 1];
+    if (c == "stress" && kind == "principal") criterion = STRESS_PRINCIPAL;
+    else if (c == "stress" && kind == "vonmises") criterion = STRESS_VONMISES;
+    else if (c == "strain" && kind == "principal") criterion = STRAIN_PRINCIPAL;
+    else
+      error->all(FLERR, "{}: unknown criterion '{} {}' (stress principal, stress vonmises, "
+                 "strain principal)", cmd, c, kind);
+    value = number(iarg + 2);
+    if (!(value > 0.0)) error->all(FLERR, "{}: critical {} must be > 0, got {}", cmd, c, arg[iarg + 2]);
+    iarg += 3;
+  } else
+    error->all(FLERR, "{}: unknown criterion '{}' (stretch, energy, stress, strain, none)", cmd, c);
+
+  const int dim = domain->dimension;
+  while (iarg < narg) {
+    const std::string key = arg[iarg];
+    if (key == "scatter") {
+      need(iarg, 2, key);
+      scatter_width = number(iarg + 1);
+      scatter_seed = utils::inumeric(FLERR, arg[iarg + 2], false, lmp);
+      if (!(scatter_width >= 0.0 && scatter_width < 1.0))
+        error->all(FLERR, "{}: scatter width must be in [0,1), got {}", cmd, arg[iarg + 1]);
+      if (scatter_seed <= 0) error->all(FLERR, "{}: scatter seed must be > 0", cmd);
+      iarg += 3;
+    } else if (key == "nofail") {
+      need(iarg, 2, key);
+      const std::string kind = arg[iarg + 1];
+      if (kind == "group") {
+        const int ig = group->find(arg[iarg + 2]);
+        if (ig < 0) error->all(FLERR, "{}: nofail group {} does not exist", cmd, arg[iarg + 2]);
+        nofail_groupbit = group->bitmask[ig];
+      } else if (kind == "region") {
+        if (!domain->get_region_by_id(arg[iarg + 2]))
+          error->all(FLERR, "{}: nofail region {} does not exist", cmd, arg[iarg + 2]);
+        delete[] nofail_region_id;
+        nofail_region_id = utils::strdup(arg[iarg + 2]);
+      } else
+        error->all(FLERR, "{}: nofail takes 'group ID' or 'region ID', got '{}'", cmd, kind);
+      iarg += 3;
+    } else if (key == "singular") {
+      need(iarg, 1, key);
+      const std::string v = arg[iarg + 1];
+      if (v == "keep") detach_singular = false;
+      else if (v == "detach") detach_singular = true;
+      else error->all(FLERR, "{}: singular takes keep or detach, got '{}'", cmd, v);
+      iarg += 2;
+    } else if (key == "precrack") {
+      const int n = (dim == 2) ? 4 : 9;
+      need(iarg, n, key + (dim == 2 ? " (2D: x1 y1 x2 y2)" : " (3D: x1 y1 z1 x2 y2 z2 x3 y3 z3)"));
+      for (int k = 1; k <= n; k++)
+        if (!utils::is_double(arg[iarg + k]))
+          error->all(FLERR, "{}: precrack needs {} numbers in {}D, got '{}'", cmd, n, dim, arg[iarg + k]);
+      std::array<double, 9> p{};
+      for (int k = 0; k < n; k++) p[k] = number(iarg + 1 + k);
+      // every corner inside the box
+      const int npts = (dim == 2) ? 2 : 3;
+      for (int q = 0; q < npts; q++)
+        for (int d = 0; d < dim; d++) {
+          const double v = p[q * dim + d];
+          if (v < domain->boxlo[d] || v > domain->boxhi[d])
+            error->all(FLERR, "{}: precrack point {} lies outside the box in {} ({} not in "
+                       "[{}, {}])", cmd, q + 1, "xyz"[d], v, domain->boxlo[d], domain->boxhi[d]);
+        }
+      if (dim == 3) {
+        const NOSPD::Vec3 p1(p[0], p[1], p[2]), p2(p[3], p[4], p[5]), p3(p[6], p[7], p[8]);
+        if (!((p2 - p1).cross(p3 - p1).norm() > 0.0))
+          error->all(FLERR, "{}: precrack corners are collinear", cmd);
+        // the fourth corner too
+        for (int d = 0; d < 3; d++) {
+          const double v = p[3 + d] + p[6 + d] - p[d];
+          if (v < domain->boxlo[d] || v > domain->boxhi[d])
+            error->all(FLERR, "{}: precrack corner P2+P3-P1 lies outside the box in {}", cmd, "xyz"[d]);
+        }
+      } else if (p[0] == p[2] && p[1] == p[3])
+        error->all(FLERR, "{}: precrack segment has zero length", cmd);
+      precracks.push_back(p);
+      iarg += 1 + n;
+    } else if (key == "contact") {
+      need(iarg, 1, key);
+      contact = utils::logical(FLERR, arg[iarg + 1], false, lmp) == 1;
+      iarg += 2;
+    } else if (key == "contact/stiffness") {
+      need(iarg, 1, key);
+      contact_scale = number(iarg + 1);
+      if (!(contact_scale > 0.0)) error->all(FLERR, "{}: contact/stiffness must be > 0", cmd);
+      iarg += 2;
+    } else if (key == "contact/radius") {
+      need(iarg, 1, key);
+      contact_radius = number(iarg + 1);
+      if (!(contact_radius > 0.0)) error->all(FLERR, "{}: contact/radius must be > 0", cmd);
+      iarg += 2;
+    } else if (key == "alpha") {
+      need(iarg, 1, key);
+      alpha = number(iarg + 1);
+      if (!(alpha >= 0.0)) error->all(FLERR, "{}: alpha must be >= 0", cmd);
+      if (criterion != STRETCH) error->all(FLERR, "{}: alpha applies to the stretch criterion only", cmd);
+      iarg += 2;
+    } else if (key == "every") {
+      need(iarg, 1, key);
+      nevery = utils::inumeric(FLERR, arg[iarg + 1], false, lmp);
+      if (nevery <= 0) error->all(FLERR, "{}: every must be > 0", cmd);
+      iarg += 2;
+    } else
+      error->all(FLERR, "{}: unknown keyword '{}'", cmd, key);
+  }
+  if (criterion == NONE && precracks.empty() && !contact)
+    error->all(FLERR, "{}: criterion none with neither precrack nor contact does nothing", cmd);
+
+  switch (criterion) {
+    case ENERGY: nstate = 9; break;
+    case STRESS_PRINCIPAL:
+    case STRAIN_PRINCIPAL:
+    case STRESS_VONMISES: nstate = 6; break;
+    case STRETCH: nstate = (alpha > 0.0) ? 1 : 0; break;
+    default: nstate = 0;
+  }
+  ncomm = 4 + nstate;
+  comm_forward = ncomm;
+  if (nstate) {
+    FixNospdDamage::grow_arrays(atom->nmax);
+    atom->add_callback(Atom::GROW);
+    for (int i = 0; i < atom->nlocal; i++)
+      for (int k = 0; k < nstate; k++) state[i][k] = 0.0;
+  }
+}
+
+/* ---------------------------------------------------------------------- */
+
+FixNospdDamage::~FixNospdDamage()
+{
+  if (nstate && modify->get_fix_by_id(id)) atom->delete_callback(id, Atom::GROW);
+  memory->destroy(state);
+  delete[] nofail_region_id;
+  memory->destroy(crit);
+  memory->destroy(kcontact);
+  memory->destroy(delta);
+  memory->destroy(cdata);
+}
+
+/* ---------------------------------------------------------------------- */
+
+int FixNospdDamage::setmask()
+{
+  int mask = 0;
+  mask |= PRE_FORCE;         // breaking; setup_pre_force: pre-cracks
+  mask |= MIN_PRE_FORCE;     // pre-cracks before minimize (no breaking there)
+  mask |= POST_FORCE;
+  return mask;
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixNospdDamage::init()
+{
+  const std::string cmd = std::string("fix ") + style;
+  pair = dynamic_cast<PairPeriNospd *>(force->pair_match("^peri/nospd", 0));
+  if (!pair)
+    error->all(FLERR, "{} requires a peri/nospd pair style (it acts on that style's bond "
+               "families)", cmd);
+  bonds = pair->bonds();
+  if (!bonds) error->all(FLERR, "{}: the pair style has no bond families yet", cmd);
+
+  if (nofail_region_id) {
+    nofail_region = domain->get_region_by_id(nofail_region_id);
+    if (!nofail_region) error->all(FLERR, "{}: nofail region {} does not exist", cmd, nofail_region_id);
+  }
+  setup_tables();
+
+  if (contact) {
+    auto *req = neighbor->add_request(this, NeighConst::REQ_FULL);
+    req->set_cutoff(contact_rc);
+  }
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixNospdDamage::init_list(int /*id*/, NeighList *ptr)
+{
+  list = ptr;
+}
+
+/* ----------------------------------------------------------------------
+   critical values and contact stiffness per type pair; a bond between
+   types I and J uses the smaller of the two types' critical values
+------------------------------------------------------------------------- */
+
+void FixNospdDamage::setup_tables()
+{
+  const std::string cmd = std::string("fix ") + style;
+  const int ntypes = atom->ntypes;
+  const int dim = domain->dimension;
+  const NOSPD::Plane plane = pair->plane();
+  const double t = pair->plate_thickness();
+
+  memory->destroy(crit);
+  memory->destroy(kcontact);
+  memory->destroy(delta);
+  memory->create(crit, ntypes + 1, ntypes + 1, "nospd/damage:crit");
+  memory->create(kcontact, ntypes + 1, ntypes + 1, "nospd/damage:kcontact");
+  memory->create(delta, ntypes + 1, ntypes + 1, "nospd/damage:delta");
+
+  if (from_g0 && !g0_given)
+    for (int i = 1; i <= ntypes; i++)
+      if (!(pair->fracture_energy(i) > 0.0))
+        error->all(FLERR, "{}: atom type {} has no fracture energy G0: read its material from a "
+                   "material file with a G0, or give G0 after 'g0'", cmd, i);
+
+  auto type_value = [&](int i, double d) {
+    if (!from_g0) return value;
+    const double G0 = g0_given ? value : pair->fracture_energy(i);
+    if (criterion == STRETCH)
+      return NOSPD::critical_stretch_from_g0(dim, plane, pair->youngs_modulus(i),
+                                             pair->poisson_ratio(i), d, G0);
+    return NOSPD::critical_energy_from_g0(dim, d, t, G0);
+  };
+
+  for (int i = 1; i <= ntypes; i++)
+    for (int j = 1; j <= ntypes; j++) {
+      const double d = pair->horizon(i, j);
+      delta[i][j] = d;
+      crit[i][j] = std::min(type_value(i, d), type_value(j, d));
+      const double ci = NOSPD::micromodulus(dim, plane, pair->youngs_modulus(i),
+                                            pair->poisson_ratio(i), d, t);
+      const double cj = NOSPD::micromodulus(dim, plane, pair->youngs_modulus(j),
+                                            pair->poisson_ratio(j), d, t);
+      kcontact[i][j] = contact_scale * 0.5 * (ci + cj);
+    }
+
+  // contact radius: given, or 1.35 times the largest point spacing, the
+  // spacing taken from the volume (2D: V = dx^2 t)
+  if (contact) {
+    if (contact_radius > 0.0) contact_rc = contact_radius;
+    else {
+      double vmax = 0.0;
+      for (int i = 0; i < atom->nlocal; i++) vmax = std::max(vmax, atom->vfrac[i]);
+      double all;
+      MPI_Allreduce(&vmax, &all, 1, MPI_DOUBLE, MPI_MAX, world);
+      const double dx = (dim == 3) ? std::cbrt(all) : std::sqrt(all / t);
+      contact_rc = 1.35 * dx;
+    }
+    double dmin = 1e300;
+    for (int i = 1; i <= ntypes; i++)
+      for (int j = 1; j <= ntypes; j++) dmin = std::min(dmin, delta[i][j]);
+    if (!(contact_rc < dmin))
+      error->all(FLERR, "{}: contact radius {} must be smaller than the horizon {}", cmd,
+                 contact_rc, dmin);
+  }
+
+  if (comm->me == 0 && criterion != NONE) {
+    std::string msg = fmt::format("{} {}: critical value per type pair:", cmd, id);
+    for (int i = 1; i <= ntypes; i++)
+      for (int j = i; j <= ntypes; j++) msg += fmt::format(" {}-{} {:.6g}", i, j, crit[i][j]);
+    utils::logmesg(lmp, msg + "\n");
+  }
+}
+
+/* ----------------------------------------------------------------------
+   pre-cracks: before the first force evaluation of the first run
+------------------------------------------------------------------------- */
+
+void FixNospdDamage::setup_pre_force(int /*vflag*/)
+{
+  if (!precracks_done) {
+    if (!precracks.empty()) apply_precracks();
+    precracks_done = true;
+  }
+}
+
+/* ----------------------------------------------------------------------
+   after the setup force computation: contact, and the state for the first
+   evaluation.  Nothing breaks here, so that a run split in two (or
+   continued from a restart) breaks the same bonds as one uninterrupted
+   run: the restart holds the bonds of the last step, whose forces were
+   computed with exactly those bonds.
+------------------------------------------------------------------------- */
+
+void FixNospdDamage::setup(int /*vflag*/)
+{
+  if (contact) contact_forces();
+  else ncontact = 0;
+  store_state();
+  // the smallest stretch of each family, for the first evaluation
+  if (criterion == STRETCH && alpha > 0.0) evaluate_and_break(false);
+}
+
+/* ----------------------------------------------------------------------
+   start of the force computation: evaluate and break, so that this step's
+   forces (and K^-1, F) use the new bond state
+------------------------------------------------------------------------- */
+
+void FixNospdDamage::pre_force(int /*vflag*/)
+{
+  nbroken_step = 0;
+  if (criterion != NONE && update->ntimestep % nevery == 0) evaluate_and_break();
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixNospdDamage::post_force(int /*vflag*/)
+{
+  if (contact) contact_forces();
+  store_state();
+}
+
+/* ----------------------------------------------------------------------
+   what the criteria need of each owned atom, from the force computation
+   that just ended: A = P K^-1 (energy), the Cauchy stress or the strain
+   (tensor criteria; xx yy zz xy xz yz); zero for a singular family
+------------------------------------------------------------------------- */
+
+void FixNospdDamage::store_state()
+{
+  if (!nstate || !bonds || criterion == STRETCH) return;
+  const int nlocal = atom->nlocal;
+  const NOSPD::Law law = pair->law();
+  for (int i = 0; i < nlocal; i++) {
+    double *c = state[i];
+    const bool sing = bonds->singular[i] != 0;
+    if (sing) {
+      for (int k = 0; k < nstate; k++) c[k] = 0.0;
+      continue;
+    }
+    const Mat3 F = NOSPD::load(bonds->defgrad[i]);
+    const Mat3 P = NOSPD::load(bonds->pk1[i]);
+    if (criterion == ENERGY) {
+      NOSPD::store(Mat3(P * NOSPD::load(bonds->kinv[i])), c);
+      continue;
+    }
+    Mat3 S;
+    if (criterion == STRAIN_PRINCIPAL) {
+      const Mat3 I = Mat3::Identity();
+      S = (law == NOSPD::Law::SMALL) ? Mat3(0.5 * (F + F.transpose()) - I)
+                                     : Mat3(0.5 * (F.transpose() * F - I));
+    } else
+      S = NOSPD::cauchy_stress(law, F, P);
+    c[0] = S(0, 0);
+    c[1] = S(1, 1);
+    c[2] = S(2, 2);
+    c[3] = S(0, 1);
+    c[4] = S(0, 2);
+    c[5] = S(1, 2);
+  }
+}
+
+/* ----------------------------------------------------------------------
+   per owned atom: displacement u = x - x0 (minimum image) now, flags now,
+   and the state of the last force computation; then forward
+   communication to the ghosts
+------------------------------------------------------------------------- */
+
+void FixNospdDamage::fill_comm_data()
+{
+  if (atom->nmax > nmax_comm) {
+    nmax_comm = atom->nmax;
+    memory->destroy(cdata);
+    memory->create(cdata, nmax_comm, ncomm, "nospd/damage:cdata");
+  }
+  const int nlocal = atom->nlocal;
+  double **x = atom->x, **x0 = atom->x0;
+  const int *mask = atom->mask;
+  const bool periodic = domain->xperiodic || domain->yperiodic || domain->zperiodic;
+
+  for (int i = 0; i < nlocal; i++) {
+    double *c = cdata[i];
+    double d[3] = {x[i][0] - x0[i][0], x[i][1] - x0[i][1], x[i][2] - x0[i][2]};
+    if (periodic) min_image(domain, d);
+    c[0] = d[0];
+    c[1] = d[1];
+    c[2] = d[2];
+    int flags = 0;
+    if (mask[i] & groupbit) flags |= FLAG_INGROUP;
+    if ((nofail_groupbit && (mask[i] & nofail_groupbit)) ||
+        (nofail_region && nofail_region->match(x[i][0], x[i][1], x[i][2])))
+      flags |= FLAG_NOFAIL;
+    if (bonds->singular[i]) flags |= FLAG_SINGULAR;
+    c[3] = flags;
+    for (int k = 0; k < nstate; k++) c[4 + k] = state[i][k];
+  }
+  comm->forward_comm(this);
+}
+
+/* ---------------------------------------------------------------------- */
+
+int FixNospdDamage::pack_forward_comm(int n, int *list_, double *buf, int /*pbc_flag*/,
+                                      int * /*pbc*/)
+{
+  int m = 0;
+  for (int ii = 0; ii < n; ii++) {
+    const double *c = cdata[list_[ii]];
+    for (int k = 0; k < ncomm; k++) buf[m++] = c[k];
+  }
+  return m;
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixNospdDamage::unpack_forward_comm(int n, int first, double *buf)
+{
+  int m = 0;
+  const int last = first + n;
+  for (int i = first; i < last; i++)
+    for (int k = 0; k < ncomm; k++) cdata[i][k] = buf[m++];
+}
+
+/* ----------------------------------------------------------------------
+   Evaluate every intact bond of every owned atom and break those that
+   meet the criterion.  Bond values (a = lower ID end, b = higher):
+     xi = minimum image of x0_b - x0_a,  U = u_b - u_a,  Y = xi + U
+     stretch           s = (|Y| - |xi|)/|xi|                  >= s_c
+     energy            w = 1/2 omega ((A_a + A_b) xi).U       >= w_c, s > 0
+     stress principal  n.sigma_ab n,  n = Y/|Y|               >= sigma_c
+     strain principal  n.eps_ab n,    n = xi/|xi|             >= eps_c
+     stress vonmises   vm(sigma_ab)                           >= sigma_c, s > 0
+   with sigma_ab = (sigma_a + sigma_b)/2 (likewise eps), positions of now
+   and atom state of the last force computation.  Only bonds with both
+   ends in the fix group and neither end "nofail" can break.
+------------------------------------------------------------------------- */
+
+void FixNospdDamage::evaluate_and_break(bool apply)
+{
+  fill_comm_data();
+  const int nlocal = atom->nlocal;
+  const tagint *tag = atom->tag;
+  const int *type = atom->type;
+  double **x0 = atom->x0;
+  const bool periodic = domain->xperiodic || domain->yperiodic || domain->zperiodic;
+  const int *bfirst = bonds->bond_first;
+  const int *bj = bonds->bond_j;
+  const int *bslot = bonds->bond_slot;
+  const bool inverse = bonds->get_model().influence == NospdBondModel::INVERSE;
+
+  const bool track_smin = (criterion == STRETCH && alpha > 0.0);
+  std::vector<std::pair<int, int>> cut;
+  for (int i = 0; i < nlocal; i++) {
+    const int fi = static_cast<int>(cdata[i][3]);
+    double smin = 0.0;
+    bool first = true;
+    if (track_smin) state[i][0] = 0.0;
+    if (!(fi & FLAG_INGROUP)) continue;
+    for (int b = bfirst[i]; b < bfirst[i + 1]; b++) {
+      const int j = bj[b];
+      const int fj = static_cast<int>(cdata[j][3]);
+      if (!(fj & FLAG_INGROUP)) continue;
+      if ((fi | fj) & FLAG_NOFAIL) continue;
+      const bool i_lo = tag[i] < tag[j];
+      const int a = i_lo ? i : j, c = i_lo ? j : i;
+      if (detach_singular && ((fi | fj) & FLAG_SINGULAR)) {
+        cut.emplace_back(i, bslot[b]);
+        continue;
+      }
+      const double *ca = cdata[a], *cb = cdata[c];
+      double xi[3] = {x0[c][0] - x0[a][0], x0[c][1] - x0[a][1], x0[c][2] - x0[a][2]};
+      if (periodic) min_image(domain, xi);
+      const double U[3] = {cb[0] - ca[0], cb[1] - ca[1], cb[2] - ca[2]};
+      const double Y[3] = {xi[0] + U[0], xi[1] + U[1], xi[2] + U[2]};
+      const double rxi2 = xi[0] * xi[0] + xi[1] * xi[1] + xi[2] * xi[2];
+      const double ry2 = Y[0] * Y[0] + Y[1] * Y[1] + Y[2] * Y[2];
+      double limit = crit[type[a]][type[c]];
+      if (scatter_width > 0.0)
+        limit *= NOSPD::scatter_factor((uint64_t) scatter_seed, NOSPD::position_key(x0[a]),
+                                       NOSPD::position_key(x0[c]), scatter_width);
+      if (criterion == STRETCH) {
+        if (track_smin) {
+          // Silling & Askari (2005): s_0 = s_00 - alpha s_min per atom, a bond
+          // breaking at the smaller s_0 of its two ends
+          limit -= alpha * std::max(ca[4], cb[4]);
+          const double rxi = sqrt(rxi2);
+          const double s = (sqrt(ry2) - rxi) / rxi;
+          if (apply && (s >= limit || std::isnan(s))) cut.emplace_back(i, bslot[b]);
+          else if (first || s < smin) {
+            smin = s;
+            first = false;
+          }
+          continue;
+        }
+        // s >= s_c  <=>  |Y|^2 >= (1 + s_c)^2 |xi|^2, without square roots
+        const double f = 1.0 + limit;
+        if (ry2 >= f * f * rxi2 || std::isnan(ry2)) cut.emplace_back(i, bslot[b]);
+        continue;
+      }
+      const double rxi = sqrt(rxi2);
+      const double ry = sqrt(ry2);
+      const double s = (ry - rxi) / rxi;
+      double val = 0.0;
+      switch (criterion) {
+        case ENERGY: {
+          if (!(s > 0.0)) continue;
+          double Asum[9];
+          for (int k = 0; k < 9; k++) Asum[k] = ca[4 + k] + cb[4 + k];
+          const double omega = inverse ? delta[type[a]][type[c]] / rxi : 1.0;
+          val = NOSPD::bond_energy(omega, Asum, xi, U);
+          break;
+        }
+        case STRESS_PRINCIPAL:
+        case STRAIN_PRINCIPAL: {
+          double S[6];
+          for (int k = 0; k < 6; k++) S[k] = 0.5 * (ca[4 + k] + cb[4 + k]);
+          const double *v = (criterion == STRESS_PRINCIPAL) ? Y : xi;
+          const double r = (criterion == STRESS_PRINCIPAL) ? ry : rxi;
+          if (!(r > 0.0)) continue;
+          const double n[3] = {v[0] / r, v[1] / r, v[2] / r};
+          val = NOSPD::normal_component(S, n);
+          break;
+        }
+        case STRESS_VONMISES: {
+          if (!(s > 0.0)) continue;
+          double S[6];
+          for (int k = 0; k < 6; k++) S[k] = 0.5 * (ca[4 + k] + cb[4 + k]);
+          val = NOSPD::von_mises6(S);
+          break;
+        }
+      }
+      if (val >= limit || std::isnan(val)) cut.emplace_back(i, bslot[b]);
+    }
+    if (track_smin) state[i][0] = smin;
+  }
+  if (!apply) return;
+  nbroken_step = break_list(cut);
+  nbroken_total += nbroken_step;
+}
+
+/* ----------------------------------------------------------------------
+   break the listed (atom, slot) pairs on this rank; collective: every
+   rank calls it.  Returns the number of bonds (pairs) broken in total.
+------------------------------------------------------------------------- */
+
+int FixNospdDamage::break_list(std::vector<std::pair<int, int>> &cut)
+{
+  for (auto &p : cut) bonds->break_bond(p.first, p.second);
+  bigint mine = (bigint) cut.size(), all = 0;
+  MPI_Allreduce(&mine, &all, 1, MPI_LMP_BIGINT, MPI_SUM, world);
+  if (all % 2)
+    error->all(FLERR, "Fix {}: bonds broken on one end only ({} slots): bond evaluation is not "
+               "symmetric; please report this", style, all);
+  if (all) bonds->bonds_changed();
+  return (int) (all / 2);
+}
+
+/* ----------------------------------------------------------------------
+   cut every bond of the fix group whose reference segment crosses a
+   pre-crack; the segment is built from its lower-ID end (and, for
+   periodic boxes, also from its higher-ID end, the other image)
+------------------------------------------------------------------------- */
+
+void FixNospdDamage::apply_precracks()
+{
+  const int nlocal = atom->nlocal;
+  const tagint *tag = atom->tag;
+  const int *mask = atom->mask;
+  double **x0 = atom->x0;
+  const bool periodic = domain->xperiodic || domain->yperiodic || domain->zperiodic;
+  const int dim = domain->dimension;
+  const int *bfirst = bonds->bond_first;
+  const int *bj = bonds->bond_j;
+  const int *bslot = bonds->bond_slot;
+
+  auto crosses = [&](const double *A, const double *B) {
+    for (const auto &p : precracks) {
+      if (dim == 2) {
+        if (NOSPD::crosses_segment_2d(A, B, &p[0], &p[2])) return true;
+      } else if (NOSPD::crosses_parallelogram_3d(A, B, &p[0], &p[3], &p[6]))
+        return true;
+    }
+    return false;
+  };
+
+  std::vector<std::pair<int, int>> cut;
+  for (int i = 0; i < nlocal; i++) {
+    if (!(mask[i] & groupbit)) continue;
+    for (int b = bfirst[i]; b < bfirst[i + 1]; b++) {
+      const int j = bj[b];
+      if (!(mask[j] & groupbit)) continue;
+      const bool i_lo = tag[i] < tag[j];
+      const int a = i_lo ? i : j, c = i_lo ? j : i;
+      double d[3] = {x0[c][0] - x0[a][0], x0[c][1] - x0[a][1], x0[c][2] - x0[a][2]};
+      if (periodic) min_image(domain, d);
+      const double A[3] = {x0[a][0], x0[a][1], x0[a][2]};
+      const double B[3] = {A[0] + d[0], A[1] + d[1], A[2] + d[2]};
+      bool hit = crosses(A, B);
+      if (!hit && periodic) {
+        const double B2[3] = {x0[c][0], x0[c][1], x0[c][2]};
+        const double A2[3] = {B2[0] - d[0], B2[1] - d[1], B2[2] - d[2]};
+        hit = crosses(A2, B2);
+      }
+      if (hit) cut.emplace_back(i, bslot[b]);
+    }
+  }
+  const int n = break_list(cut);
+  nbroken_total += n;
+  nbroken_step = n;
+  if (comm->me == 0)
+    utils::logmesg(lmp, "Fix {} {}: {} pre-crack(s) cut {} bonds\n", style, id,
+                   precracks.size(), n);
+}
+
+/* ----------------------------------------------------------------------
+   Short-range contact between points without an intact bond (crack
+   faces, fragments, separate bodies), after the short-range force idea of
+   Silling's EMU and LAMMPS's PERI styles, written as a repulsive spring:
+     f_i += k_IJ V_j (r - d_ij)/delta_IJ (x_j - x_i)/r   for r < d_ij
+     d_ij = min(0.9 |xi_ij|, r_c),  k_IJ = C c_IJ
+   c_IJ the bond-based micromodulus of the materials (3D 18K/(pi delta^4),
+   2D 9E/(pi t delta^3) plane stress, 48E/(5 pi t delta^3) plane strain),
+   C = contact/stiffness (default 15), r_c = contact/radius (default 1.35
+   times the point spacing).  Pairs V_i f_i + V_j f_j = 0: momentum is
+   conserved.  Force density, like every force of the peri styles.
+------------------------------------------------------------------------- */
+
+void FixNospdDamage::contact_forces()
+{
+  if (!list) return;
+  double **x = atom->x, **x0 = atom->x0, **f = atom->f;
+  const int *type = atom->type;
+  const int *mask = atom->mask;
+  const tagint *tag = atom->tag;
+  const double *vfrac = atom->vfrac;
+  const bool periodic = domain->xperiodic || domain->yperiodic || domain->zperiodic;
+  const int inum = list->inum;
+  const int *ilist = list->ilist;
+  const int *numneigh = list->numneigh;
+  int **firstneigh = list->firstneigh;
+  const double rc2 = contact_rc * contact_rc;
+  int *npartner = bonds->npartner;
+  tagint **partner = bonds->partner;
+
+  bigint nc = 0;
+  for (int ii = 0; ii < inum; ii++) {
+    const int i = ilist[ii];
+    if (!(mask[i] & groupbit)) continue;
+    const int *jlist = firstneigh[i];
+    for (int jj = 0; jj < numneigh[i]; jj++) {
+      const int j = jlist[jj] & NEIGHMASK;
+      if (!(mask[j] & groupbit)) continue;
+      const double dx = x[j][0] - x[i][0], dy = x[j][1] - x[i][1], dz = x[j][2] - x[i][2];
+      const double rsq = dx * dx + dy * dy + dz * dz;
+      if (rsq >= rc2 || rsq == 0.0) continue;
+      double d0[3] = {x0[j][0] - x0[i][0], x0[j][1] - x0[i][1], x0[j][2] - x0[i][2]};
+      if (periodic) min_image(domain, d0);
+      const double r0 = sqrt(d0[0] * d0[0] + d0[1] * d0[1] + d0[2] * d0[2]);
+      const double dij = std::min(0.9 * r0, contact_rc);
+      const double r = sqrt(rsq);
+      if (r >= dij) continue;
+      // bonded pairs interact through their bond
+      bool bonded = false;
+      const tagint tj = tag[j];
+      for (int n = 0; n < npartner[i]; n++)
+        if (partner[i][n] == tj) {
+          bonded = true;
+          break;
+        }
+      if (bonded) continue;
+      const int it = type[i], jt = type[j];
+      const double fpair = kcontact[it][jt] * vfrac[j] * (r - dij) / (delta[it][jt] * r);
+      f[i][0] += fpair * dx;
+      f[i][1] += fpair * dy;
+      f[i][2] += fpair * dz;
+      nc++;
+    }
+  }
+  bigint all = 0;
+  MPI_Allreduce(&nc, &all, 1, MPI_LMP_BIGINT, MPI_SUM, world);
+  ncontact = all / 2;
+}
+
+/* ---------------------------------------------------------------------- */
+
+double FixNospdDamage::compute_vector(int n)
+{
+  switch (n) {
+    case 0: return (double) nbroken_total;
+    case 1: return (double) nbroken_step;
+    case 2: return bonds ? (double) bonds->nsingular : 0.0;
+    case 3: return bonds ? 0.5 * (double) bonds->nbonds_total : 0.0;
+    default: return (double) ncontact;
+  }
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixNospdDamage::write_restart(FILE *fp)
+{
+  if (comm->me == 0) {
+    double list_[2] = {(double) nbroken_total, (double) precracks.size()};
+    int size = 2 * sizeof(double);
+    fwrite(&size, sizeof(int), 1, fp);
+    fwrite(list_, sizeof(double), 2, fp);
+  }
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixNospdDamage::restart(char *buf)
+{
+  auto *list_ = (double *) buf;
+  nbroken_total = (bigint) list_[0];
+  // the families in the restart file already carry the pre-cracks; cutting
+  // them again finds no bond to cut, so nothing is skipped here
+}
+
+/* ---------------------------------------------------------------------- */
+
+double FixNospdDamage::memory_usage()
+{
+  return (double) nmax_comm * ncomm * sizeof(double) + (double) atom->nmax * nstate * sizeof(double);
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixNospdDamage::grow_arrays(int nmax)
+{
+  memory->grow(state, nmax, nstate, "nospd/damage:state");
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixNospdDamage::copy_arrays(int i, int j, int /*delflag*/)
+{
+  for (int k = 0; k < nstate; k++) state[j][k] = state[i][k];
+}
+
+/* ---------------------------------------------------------------------- */
+
+int FixNospdDamage::pack_exchange(int i, double *buf)
+{
+  for (int k = 0; k < nstate; k++) buf[k] = state[i][k];
+  return nstate;
+}
+
+/* ---------------------------------------------------------------------- */
+
+int FixNospdDamage::unpack_exchange(int nlocal, double *buf)
+{
+  for (int k = 0; k < nstate; k++) state[nlocal][k] = buf[k];
+  return nstate;
+}

@@ -1,0 +1,109 @@
+/* -*- c++ -*- ----------------------------------------------------------
+   PERI-NOSPD: correspondence peridynamics for LAMMPS.
+------------------------------------------------------------------------- */
+
+#ifdef FIX_CLASS
+// clang-format off
+FixStyle(nospd/damage,FixNospdDamage);
+// clang-format on
+#else
+
+#ifndef LMP_FIX_NOSPD_DAMAGE_H
+#define LMP_FIX_NOSPD_DAMAGE_H
+
+#include "fix.h"
+
+#include <array>
+#include <vector>
+
+namespace LAMMPS_NS {
+
+class FixNospdBonds;
+class PairPeriNospd;
+
+/* Bond breaking for the correspondence styles.  After each force
+   computation (post_force) the fix stores the atoms' state the criteria
+   need (A = P K^-1, stress or strain); at the start of the next force
+   computation (pre_force) it evaluates every bond from the current
+   positions and that state, breaks bonds on both ends, and lets the bonds
+   fix rebuild K^-1, so that the forces of every step belong to the bond
+   state a restart file written after it holds.  Pre-cracks are cut before
+   the first force evaluation; an optional short-range contact force acts
+   between points that share no intact bond. */
+class FixNospdDamage : public Fix {
+ public:
+  FixNospdDamage(class LAMMPS *, int, char **);
+  ~FixNospdDamage() override;
+  int setmask() override;
+  void init() override;
+  void init_list(int, class NeighList *) override;
+  void setup_pre_force(int) override;
+  void setup(int) override;
+  void pre_force(int) override;
+  void post_force(int) override;
+  double compute_vector(int) override;
+  int pack_forward_comm(int, int *, double *, int, int *) override;
+  void unpack_forward_comm(int, int, double *) override;
+  void write_restart(FILE *) override;
+  void restart(char *) override;
+  void grow_arrays(int) override;
+  void copy_arrays(int, int, int) override;
+  int pack_exchange(int, double *) override;
+  int unpack_exchange(int, double *) override;
+  double memory_usage() override;
+
+  enum Criterion { STRETCH, ENERGY, STRESS_PRINCIPAL, STRAIN_PRINCIPAL, STRESS_VONMISES };
+
+ protected:
+  int criterion;
+  bool from_g0;             // critical value from the fracture energy
+  double value;             // critical value (or G0 when from_g0 and given)
+  bool g0_given;
+  double scatter_width;
+  double alpha;             // stretch: s_c - alpha s_min (Silling & Askari 2005)
+  int scatter_seed;
+  int nevery;
+  int nofail_groupbit;
+  char *nofail_region_id;
+  class Region *nofail_region;
+  bool detach_singular;
+  std::vector<std::array<double, 9>> precracks;    // 2D: 4 used; 3D: 9
+
+  bool contact;
+  double contact_scale;     // stiffness factor on the micromodulus
+  double contact_radius;    // 0: from the point spacing
+  double contact_rc;        // radius in use
+  class NeighList *list;
+
+  PairPeriNospd *pair;
+  FixNospdBonds *bonds;
+  double **crit;            // [ntypes+1][ntypes+1] critical value per type pair
+  double **kcontact;        // contact stiffness per type pair
+  double **delta;           // horizon per type pair (from the pair style)
+
+  // per-atom state of the last force computation (migrates with atoms)
+  int nstate;
+  double **state;
+  // per-atom data forward-communicated before the bond loop
+  int ncomm, nmax_comm;
+  double **cdata;
+  bool precracks_done;
+
+  // counts
+  bigint nbroken_total;     // bonds (pairs) broken by this fix, restart-persistent
+  bigint nbroken_step;      // bonds broken at the last evaluation
+  bigint ncontact;          // pairs in contact at the last force evaluation
+
+  void setup_tables();
+  void store_state();
+  void fill_comm_data();
+  void evaluate_and_break(bool apply = true);
+  void apply_precracks();
+  int break_list(std::vector<std::pair<int, int>> &);
+  void contact_forces();
+};
+
+}    // namespace LAMMPS_NS
+
+#endif
+#endif

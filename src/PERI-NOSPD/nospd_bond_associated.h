@@ -1,0 +1,832 @@
+/* -*- c++ -*- ----------------------------------------------------------
+   PERI-NOSPD: correspondence peridynamics for LAMMPS.
+   Bond-associated ("horizon-stabilized") correspondence kernels.
+   Knows nothing of LAMMPS.
+
+   For the bond (i,j) the bond-associated family is
+       h_ij = { k in H_i : |X_k - X_j| <= r },
+   and with w_k = omega_ik V_k, b_k = xi_ik, U_k = Y_ik - xi_ik:
+       K_j = sum_{k in h_ij} w_k b_k (x) b_k,
+       F_j = I + (sum_{k in h_ij} w_k U_k (x) b_k) K_j^-1,   P_j = P(F_j).
+   Membership is symmetric, k in h_ij <=> j in h_ik, so both forms are
+   a state-based model with the force state
+       T_i<xi_ik> = omega_ik Gbar_k b_k,
+       Form I :  Gbar_k = (V_h(k)/V_H) P_k K_k^-1             (bond ik only)
+       Form II:  Gbar_k = sum_{j in h_ik} beta_j P_j K_j^-1,   beta_j = V_h(j)/S
+   and f_i = sum_k (T_i<xi_ik> - T_k<xi_ki>) V_k.  Form II is the exact
+   gradient of E = sum_i V_i sum_j beta_j W(F_j).
+
+   The two sums over a bond-associated family (for F_j and for Gbar_k)
+   dominate the cost.  All the reference data of a family - member
+   lists, K_j^-1, weights - depend only on the family's reference offsets
+   and weights, so they live in a BondPattern that every family of the
+   same shape shares (on a regular grid: one for the interior and a few
+   hundred near surfaces).  The members of a pattern are ordered
+   boustrophedon-wise (planes, rows, and alternating directions), so that
+   on a grid each h_ij is a union of about 10 contiguous runs (3D, delta =
+   3 dx, ratio 1) rather than 55 scattered members; a run costs one
+   difference of prefix sums.  A pattern that many families share also
+   gets a straight-line program of pairwise sums (about 10 row additions
+   per h_ij).  For the linear small-strain law the bonds skip the general
+   constitutive call.  Families of one pattern may be evaluated two at a
+   time ("lanes"), which the compiler packs into vector registers.
+------------------------------------------------------------------------- */
+
+#ifndef NOSPD_BOND_ASSOCIATED_H
+#define NOSPD_BOND_ASSOCIATED_H
+
+#include "nospd_constitutive.h"
+
+#include <algorithm>
+#include <cstdint>
+#include <numeric>
+#include <vector>
+
+namespace NOSPD {
+
+enum class HSForm { I = 1, II = 2 };
+
+struct SumProgram {
+  int n = 0;               // inputs: rows 0..n-1 of the work array
+  int nrow = 0;            // rows of work the program touches (inputs and temporaries)
+  std::vector<int> code;   // d >= 0, a, b: row d = row a + row b
+                           // -1-j, c, r_1..r_c: output j = sum of rows r_1..r_c
+  bool ready() const { return !code.empty(); }
+  double bytes() const { return 4.0 * code.size(); }
+};
+
+/* Reference data of one family shape.  Slots are the members in
+   boustrophedon order; per-slot tensors are dim x dim, row-major. */
+struct BondPattern {
+  int n = 0;                       // family size
+  int dim = 3;
+  double radius = 0.0;             // bond-associated horizon r = ratio * delta
+  std::vector<double> b;           // reference offsets xi_k, 3 per slot
+  std::vector<double> w;           // omega_k V_k
+  std::vector<int> run_first;      // runs of slot j: run_first[j] .. run_first[j+1]
+  std::vector<uint16_t> runs;      // (first, last + 1) slot pairs
+  std::vector<double> kinv;        // K_j^-1 (zero where singular)
+  std::vector<double> cforce;      // c_j: beta_j (Form II) or V_h(j)/V_H (Form I)
+  std::vector<double> beta;        // V_h(j)/S: weight of bond j in energy and stress
+  std::vector<char> singular;      // K_j singular: bond falls back to the family's F
+  int nsingular = 0;
+  double kinv_full[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};    // K_i^-1 of the whole family
+  bool atom_singular = false;
+  long members = 0;                // sum_j |h_ij|, for the log
+
+  // matching: quantized offsets in lexicographic (z, y, x) order and the
+  // slot of each lexicographic position
+  std::vector<int64_t> key;
+  std::vector<int> lex_to_slot;
+
+  // bond sums by program, built for patterns that many families share
+  SumProgram program;
+
+  double bytes() const
+  {
+    return sizeof(BondPattern) + 8.0 * (b.size() + w.size() + kinv.size() +
+        cforce.size() + beta.size() + key.size()) +
+        4.0 * (run_first.size() + lex_to_slot.size()) + 2.0 * runs.size() + singular.size() +
+        program.bytes();
+  }
+};
+
+/* Boustrophedon order of members given in lexicographic (z, y, x) order
+   of their quantized offsets key[3l..3l+2] = (qx, qy, qz): planes of
+   equal z in turn, the rows of odd planes reversed, and every other row
+   reversed.  Consecutive rows then meet end to end, which merges the runs
+   of a sphere's section.  Returns lex position -> slot. */
+inline std::vector<int> boustrophedon(const std::vector<int64_t> &key, int n)
+{
+  std::vector<std::vector<std::vector<int>>> planes;    // plane -> row -> lex positions
+  for (int l = 0; l < n; ++l) {
+    const int64_t *k = &key[3 * l];
+    if (planes.empty() || key[3 * planes.back()[0][0] + 2] != k[2]) planes.push_back({{l}});
+    else if (key[3 * planes.back().back()[0] + 1] != k[1]) planes.back().push_back({l});
+    else planes.back().back().push_back(l);
+  }
+  std::vector<int> lex_to_slot(n);
+  int slot = 0, row = 0;
+  for (size_t p = 0; p < planes.size(); ++p) {
+    auto &rows = planes[p];
+    if (p % 2) std::reverse(rows.begin(), rows.end());
+    for (auto &r : rows) {
+      if (row++ % 2) std::reverse(r.begin(), r.end());
+      for (int l : r) lex_to_slot[l] = slot++;
+    }
+  }
+  return lex_to_slot;
+}
+
+/* Build a pattern from one family given in lexicographic order: offsets
+   (3 per member), weights omega V, volumes V, quantized keys.  tol is the
+   conditioning below which a shape tensor counts as singular. */
+inline void build_pattern(BondPattern &p, int dim, int n, const double *b_lex,
+                          const double *w_lex, const double *vol_lex,
+                          const std::vector<int64_t> &key_lex, double radius, HSForm form,
+                          double tol)
+{
+  p = BondPattern();
+  p.n = n;
+  p.dim = dim;
+  p.radius = radius;
+  p.key = key_lex;
+  p.lex_to_slot = boustrophedon(key_lex, n);
+  const int nc = dim * dim;
+  p.b.assign(3 * n, 0.0);
+  p.w.assign(n, 0.0);
+  std::vector<double> vol(n);
+  for (int l = 0; l < n; ++l) {
+    const int s = p.lex_to_slot[l];
+    for (int c = 0; c < 3; ++c) p.b[3 * s + c] = b_lex[3 * l + c];
+    if (dim == 2) p.b[3 * s + 2] = 0.0;
+    p.w[s] = w_lex[l];
+    vol[s] = vol_lex[l];
+  }
+
+  // the whole family: K_i, and its volume V_H
+  auto shape = [&](const Mat3 &K, double *out) {
+    Mat3 Kd = K, Ki;
+    if (dim == 2) {
+      Kd(0, 2) = Kd(1, 2) = Kd(2, 0) = Kd(2, 1) = 0.0;
+      Kd(2, 2) = 1.0;
+    }
+    const bool ok = safe_inverse(Kd, dim, tol, Ki);
+    for (int r = 0; r < dim; ++r)
+      for (int c = 0; c < dim; ++c) out[r * dim + c] = Ki(r, c);
+    return ok;
+  };
+  Mat3 K = Mat3::Zero();
+  double vh_all = 0.0;
+  for (int s = 0; s < n; ++s) {
+    const Vec3 bs(p.b[3 * s], p.b[3 * s + 1], p.b[3 * s + 2]);
+    K += p.w[s] * bs * bs.transpose();
+    vh_all += vol[s];
+  }
+  p.atom_singular = (n == 0) || !shape(K, p.kinv_full);
+
+  // bond-associated families: runs of members, K_j, V_h(j)
+  const double r2 = radius * radius;
+  p.run_first.assign(n + 1, 0);
+  p.kinv.assign(nc * n, 0.0);
+  p.cforce.assign(n, 0.0);
+  p.beta.assign(n, 0.0);
+  p.singular.assign(n, 1);
+  std::vector<double> vh(n, 0.0);
+  for (int j = 0; j < n; ++j) {
+    p.run_first[j] = (int) p.runs.size() / 2;
+    Mat3 Kj = Mat3::Zero();
+    bool inside = false;
+    for (int k = 0; k <= n; ++k) {
+      bool member = false;
+      if (k < n) {
+        const double dx = p.b[3 * k] - p.b[3 * j], dy = p.b[3 * k + 1] - p.b[3 * j + 1],
+                     dz = p.b[3 * k + 2] - p.b[3 * j + 2];
+        member = dx * dx + dy * dy + dz * dz <= r2;
+      }
+      if (member) {
+        const Vec3 bk(p.b[3 * k], p.b[3 * k + 1], p.b[3 * k + 2]);
+        Kj += p.w[k] * bk * bk.transpose();
+        vh[j] += vol[k];
+        p.members++;
+      }
+      if (member && !inside) p.runs.push_back((uint16_t) k);
+      if (!member && inside) p.runs.push_back((uint16_t) k);
+      inside = member;
+    }
+    if (!p.atom_singular) p.singular[j] = shape(Kj, &p.kinv[nc * j]) ? 0 : 1;
+    p.nsingular += p.singular[j];
+  }
+  p.run_first[n] = (int) p.runs.size() / 2;
+
+  const double S = std::accumulate(vh.begin(), vh.end(), 0.0);
+  for (int j = 0; j < n; ++j) {
+    p.beta[j] = S > 0.0 ? vh[j] / S : 0.0;
+    p.cforce[j] = (form == HSForm::II) ? p.beta[j] : vh[j] / vh_all;
+  }
+}
+
+/* ----------------------------------------------------------------------
+   Sums over the bond-associated families: S_j = sum_{k in h_ij} X_k for
+   every slot j, X one row of dim*dim values per member.  Both sums the
+   model needs have this form (N_j from w U (x) b, and - by the symmetry
+   of membership - Gbar_k from the G_j), so one evaluator serves both.
+
+   Two evaluators:
+   - runs: prefix sums of X in slot order, and one difference per run;
+   - a sum program: a straight-line list of pairwise sums shared by many
+     families (greedy common-subexpression elimination, Paar 1997), built
+     once for a pattern that many atoms share.  On a grid (3D, delta =
+     3 dx, ratio 1) it needs about 10 row additions per family against
+     about 19 for the runs and 55 for the plain member lists.
+------------------------------------------------------------------------- */
+
+/* Greedy CSE: repeatedly replace the pair of terms that occurs together
+   in most sets by a new term, until no pair occurs twice.  Pair counts
+   live in a dense triangular table over the terms, which grows as
+   temporaries are made (a few hundred for a 3D family); the most frequent
+   pair comes from a bucket queue (counts are at most the number of sets),
+   whose stale entries are requeued or dropped when they surface.  The
+   program is a deterministic function of the sets. */
+inline SumProgram build_sum_program(const std::vector<std::vector<int>> &sets, int n)
+{
+  struct {
+    int n;
+    std::vector<int> temp, code;
+    int nrow;
+  } pg{n, {}, {}, 0};
+  std::vector<std::vector<int>> rows = sets;
+  const int nrow = (int) rows.size();
+  int cap = 4 * n + 16, nterm = n;
+  std::vector<int> count((size_t) cap * cap, 0);
+  std::vector<std::vector<char>> in(nrow, std::vector<char>(cap, 0));
+  for (int r = 0; r < nrow; ++r)
+    for (int x : rows[r]) in[r][x] = 1;
+
+  std::vector<std::vector<uint64_t>> bucket(nrow + 1);    // pairs (a << 32 | b) by count
+  int top = 0;
+  auto push = [&](int c, uint64_t k) {
+    bucket[c].push_back(k);
+    top = std::max(top, c);
+  };
+  auto bump = [&](int a, int b, int by) {
+    if (a > b) std::swap(a, b);
+    const int c = (count[(size_t) a * cap + b] += by);
+    if (by > 0 && c >= 2) push(c, (uint64_t) a << 32 | (uint32_t) b);
+  };
+  auto grow = [&]() {
+    const int ncap = 2 * cap;
+    std::vector<int> bigger((size_t) ncap * ncap, 0);
+    for (int a = 0; a < nterm; ++a)
+      for (int b = a; b < nterm; ++b) bigger[(size_t) a * ncap + b] = count[(size_t) a * cap + b];
+    count.swap(bigger);
+    for (auto &v : in) v.resize(ncap, 0);
+    cap = ncap;
+  };
+  for (auto &r : rows)
+    for (size_t x = 0; x < r.size(); ++x)
+      for (size_t y = x + 1; y < r.size(); ++y) bump(r[x], r[y], 1);
+
+  while (top >= 2) {
+    if (bucket[top].empty()) {
+      top--;
+      continue;
+    }
+    const uint64_t k = bucket[top].back();
+    bucket[top].pop_back();
+    const int a = (int) (k >> 32), b = (int) (k & 0xffffffffu);
+    const int c = count[(size_t) a * cap + b];
+    if (c != top) {
+      // stale: its count fell since; requeue where it belongs now
+      if (c >= 2) bucket[c].push_back(k);
+      continue;
+    }
+    if (nterm == cap) grow();
+    const int t = nterm++;
+    pg.temp.push_back(a);
+    pg.temp.push_back(b);
+    for (int r = 0; r < nrow; ++r) {
+      if (!in[r][a] || !in[r][b]) continue;
+      auto &row = rows[r];
+      row.erase(std::remove_if(row.begin(), row.end(), [&](int x) { return x == a || x == b; }),
+                row.end());
+      in[r][a] = in[r][b] = 0;
+      bump(a, b, -1);
+      for (int x : row) {
+        bump(a, x, -1);
+        bump(b, x, -1);
+        bump(x, t, 1);
+      }
+      row.push_back(t);
+      in[r][t] = 1;
+    }
+  }
+  // Schedule: outputs in slot order, each temporary made when first
+  // needed, and a row reused as soon as its last reader is done (inputs
+  // included).  This keeps the live rows few - the work array stays in
+  // the L1 cache - while the operation count is unchanged.
+  const int nt = (int) pg.temp.size() / 2;
+  std::vector<int> uses(n + nt, 0), slot(n + nt, -1), free_rows;
+  std::vector<char> made(n + nt, 0);
+  for (int x : pg.temp) uses[x]++;
+  for (auto &r : rows)
+    for (int x : r) uses[x]++;
+  for (int k = 0; k < n; ++k) {
+    slot[k] = k;
+    made[k] = 1;
+  }
+  int nrow_used = n;
+  auto release = [&](int x) {
+    if (--uses[x] == 0) free_rows.push_back(slot[x]);
+  };
+  auto take = [&]() {
+    if (free_rows.empty()) return nrow_used++;
+    const int r = free_rows.back();
+    free_rows.pop_back();
+    return r;
+  };
+  std::vector<int> stack;
+  for (size_t j = 0; j < rows.size(); ++j) {
+    for (int x : rows[j]) {
+      // make x and what it needs, operands first (iteratively)
+      stack.push_back(x);
+      while (!stack.empty()) {
+        const int y = stack.back();
+        if (made[y]) {
+          stack.pop_back();
+          continue;
+        }
+        const int a = pg.temp[2 * (y - n)], b = pg.temp[2 * (y - n) + 1];
+        if (!made[a] || !made[b]) {
+          if (!made[a]) stack.push_back(a);
+          if (!made[b]) stack.push_back(b);
+          continue;
+        }
+        stack.pop_back();
+        // the destination is taken before the operands are released: it
+        // never aliases them, so the evaluator may use restrict pointers
+        slot[y] = take();
+        const int sa = slot[a], sb = slot[b];
+        release(a);
+        release(b);
+        made[y] = 1;
+        pg.code.insert(pg.code.end(), {slot[y], sa, sb});
+      }
+    }
+    pg.code.push_back(-1 - (int) j);
+    pg.code.push_back((int) rows[j].size());
+    for (int x : rows[j]) pg.code.push_back(slot[x]);
+    for (int x : rows[j]) release(x);
+  }
+  SumProgram out;
+  out.n = n;
+  out.nrow = nrow_used;
+  out.code.swap(pg.code);
+  return out;
+}
+
+/* Several families of one pattern are evaluated together, L "lanes" (1
+   or 2), stored innermost: every array below is [row][value][lane].  The
+   lanes share the pattern's member lists and K_j^-1, so one program step
+   or one 3x3 product serves them all, and the compiler packs the lanes
+   into vector registers.
+
+   Rows of dim*dim values.  Inside the sums a 3D row is split into its
+   first 8 values (64 bytes per lane: whole packed registers) and a ninth
+   kept in a side array; a 2D row is 4 values. */
+template <int DIM, int L> struct RowLayout {
+  static constexpr int NC = DIM * DIM;          // values per row
+  static constexpr int NM = DIM == 3 ? 8 : 4;   // values in the main array
+  static constexpr int NA = NC - NM;            // values in the side array (0 or 1)
+  static constexpr int RM = NM * L;             // doubles per main row
+};
+
+/* Scratch of a family evaluation: the sums' work rows (main and side), the
+   bond sums, and the bond tensors of Form I. */
+struct StateScratch {
+  std::vector<double> work, side, sums, g;
+  void reserve(int n, int nrow, int lanes)
+  {
+    if ((int) sums.size() < 9 * lanes * n) {
+      sums.assign(9 * lanes * n, 0.0);
+      g.assign(9 * lanes * n, 0.0);
+    }
+    if ((int) side.size() < lanes * (nrow + 1)) {
+      work.assign(8 * lanes * (nrow + 1) + 8, 0.0);
+      side.assign(lanes * (nrow + 1), 0.0);
+    }
+  }
+  // the main work rows, aligned to 64 bytes
+  double *main_rows()
+  {
+    auto a = reinterpret_cast<std::uintptr_t>(work.data());
+    return work.data() + ((64 - a % 64) % 64) / sizeof(double);
+  }
+};
+
+// row kernels on distinct rows: plain loops that become packed arithmetic
+template <int N>
+inline void row_sum(double *__restrict c, const double *__restrict a, const double *__restrict b)
+{
+  for (int m = 0; m < N; ++m) c[m] = a[m] + b[m];
+}
+
+template <int N> inline void row_add(double *__restrict acc, const double *__restrict a)
+{
+  for (int m = 0; m < N; ++m) acc[m] += a[m];
+}
+
+template <int N>
+inline void row_add_diff(double *__restrict acc, const double *__restrict hi,
+                         const double *__restrict lo)
+{
+  for (int m = 0; m < N; ++m) acc[m] += hi[m] - lo[m];
+}
+
+/* S_j = sum_{k in h_ij} X_k for every slot j.  X is in the work rows
+   0..n-1 (main and side), which the evaluation overwrites; S goes to out
+   as [j][value][lane]. */
+template <int DIM, int L>
+inline void bond_sums(const BondPattern &p, StateScratch &s, double *__restrict out)
+{
+  using RL = RowLayout<DIM, L>;
+  constexpr int NC = RL::NC, NA = RL::NA, RM = RL::RM;
+  const int n = p.n;
+  const SumProgram &pg = p.program;
+  double *__restrict w = s.main_rows();
+  double *__restrict side = s.side.data();
+
+  auto emit = [&](int j, const double *acc, const double *acc_side) {
+    double *o = out + NC * L * j;
+    for (int q = 0; q < RM; ++q) o[q] = acc[q];
+    if (NA)
+      for (int l = 0; l < L; ++l) o[RM + l] = acc_side[l];
+  };
+
+  if (pg.ready()) {
+    const int *c = pg.code.data();
+    const int *end = c + pg.code.size();
+    while (c < end) {
+      if (c[0] >= 0) {
+        row_sum<RM>(w + RM * c[0], w + RM * c[1], w + RM * c[2]);
+        if (NA) row_sum<L>(side + L * c[0], side + L * c[1], side + L * c[2]);
+        c += 3;
+      } else {
+        const int j = -1 - c[0], m = c[1];
+        double acc[RM] = {}, acc_side[L] = {};
+        for (int q = 0; q < m; ++q) {
+          row_add<RM>(acc, w + RM * c[2 + q]);
+          if (NA) row_add<L>(acc_side, side + L * c[2 + q]);
+        }
+        emit(j, acc, acc_side);
+        c += 2 + m;
+      }
+    }
+    return;
+  }
+
+  // prefix sums in place, shifted by one row: row k = sum_{l < k} X_l
+  double run[RM] = {}, run_side[L] = {};
+  for (int k = 0; k <= n; ++k) {
+    for (int q = 0; q < RM; ++q) {
+      const double x = k < n ? w[RM * k + q] : 0.0;
+      w[RM * k + q] = run[q];
+      run[q] += x;
+    }
+    if (NA)
+      for (int l = 0; l < L; ++l) {
+        const double x = k < n ? side[L * k + l] : 0.0;
+        side[L * k + l] = run_side[l];
+        run_side[l] += x;
+      }
+  }
+  for (int j = 0; j < n; ++j) {
+    double acc[RM] = {}, acc_side[L] = {};
+    const uint16_t *r = &p.runs[2 * p.run_first[j]];
+    const int nrun = p.run_first[j + 1] - p.run_first[j];
+    for (int q = 0; q < nrun; ++q) {
+      const int hi = r[2 * q + 1], lo = r[2 * q];
+      row_add_diff<RM>(acc, w + RM * hi, w + RM * lo);
+      if (NA) row_add_diff<L>(acc_side, side + L * hi, side + L * lo);
+    }
+    emit(j, acc, acc_side);
+  }
+}
+
+// 3x3 embedding of a dim x dim block plus the identity
+template <int DIM> inline Mat3 identity_plus(const double *h)
+{
+  Mat3 F = Mat3::Identity();
+  for (int r = 0; r < DIM; ++r)
+    for (int c = 0; c < DIM; ++c) F(r, c) += h[r * DIM + c];
+  return F;
+}
+
+// out = A (dim x dim) times B (dim x dim), row-major
+template <int DIM> inline void block_mul(const double *a, const double *b, double *out)
+{
+  for (int r = 0; r < DIM; ++r)
+    for (int c = 0; c < DIM; ++c) {
+      double s = 0.0;
+      for (int m = 0; m < DIM; ++m) s += a[r * DIM + m] * b[m * DIM + c];
+      out[r * DIM + c] = s;
+    }
+}
+
+template <int DIM> inline void block_of(const Mat3 &M, double *out)
+{
+  for (int r = 0; r < DIM; ++r)
+    for (int c = 0; c < DIM; ++c) out[r * DIM + c] = M(r, c);
+}
+
+/* The small-strain law is linear: P(I + H) = lambda tr(e) I + 2 mu e on the
+   in-plane (2D) or full (3D) block, e = sym(H).  Its two constants are read
+   off first_piola itself and checked against it on a general H, so the law
+   keeps its one definition; bonds then skip the general call, and sums of
+   stresses become stresses of sums. */
+struct LinearLaw {
+  bool ok = false;
+  double lam = 0.0, mu = 0.0;
+};
+
+inline LinearLaw probe_linear_law(Law law, Plane plane, const Lame &m, int dim)
+{
+  LinearLaw lin;
+  if (law != Law::SMALL) return lin;
+  const double s = 1.0e-3;
+  Mat3 F = Mat3::Identity(), P;
+  double W;
+  F(0, 0) += s;
+  if (!first_piola(law, plane, m, F, P, W)) return lin;
+  lin.lam = P(1, 1) / s;
+  lin.mu = 0.5 * (P(0, 0) / s - lin.lam);
+
+  // check on a general H
+  Mat3 H;
+  H << 0.3e-3, -0.7e-3, 0.2e-3, 0.5e-3, -0.4e-3, 0.9e-3, -0.6e-3, 0.1e-3, 0.8e-3;
+  if (dim == 2) H(0, 2) = H(1, 2) = H(2, 0) = H(2, 1) = H(2, 2) = 0.0;
+  F = Mat3::Identity() + H;
+  if (!first_piola(law, plane, m, F, P, W)) return lin;
+  double tr = 0.0;
+  for (int a = 0; a < dim; ++a) tr += H(a, a);
+  double err = 0.0, wl = 0.0;
+  for (int a = 0; a < dim; ++a)
+    for (int c = 0; c < dim; ++c) {
+      const double e = 0.5 * (H(a, c) + H(c, a));
+      const double pl = 2.0 * lin.mu * e + (a == c ? lin.lam * tr : 0.0);
+      err = std::max(err, std::abs(pl - P(a, c)));
+      wl += 0.5 * pl * e;
+    }
+  lin.ok = err <= 1.0e-10 * P.norm() && std::abs(wl - W) <= 1.0e-10 * std::abs(W);
+  return lin;
+}
+
+/* Outcome of one family evaluation. */
+struct StateOutput {
+  Mat3 F;              // deformation gradient of the whole family (output, fallback)
+  Mat3 P;              // sum_j beta_j P_j: the family's mean stress
+  double W = 0.0;      // sum_j beta_j W(F_j): stored-energy density
+  int bad = -2;        // on failure: slot whose law is undefined (-1: the family's F)
+  int fallback = 0;    // bonds that used the family's F
+};
+
+/* What the evaluation of L families of one pattern needs per lane. */
+struct LaneInput {
+  const Lame *m = nullptr;
+  const LinearLaw *lin = nullptr;
+  const double *U = nullptr;    // displacement differences in slot order, 3 per slot
+  double *t = nullptr;          // out: Gbar_k b_k, 3 per slot
+};
+
+/* Evaluate L families that share the pattern p.  The force state of each
+   is T_i<xi_k> = omega_k t_k.  The energy is summed only if asked for.
+   Returns false where the law is undefined (det F <= 0); out[l].bad names
+   the bond of the lane that failed. */
+template <int DIM, int L>
+bool evaluate_families(const BondPattern &p, HSForm form, Law law, Plane plane,
+                       const LaneInput *in, bool energy, StateScratch &s, StateOutput *out)
+{
+  using RL = RowLayout<DIM, L>;
+  constexpr int NC = RL::NC, NM = RL::NM, RM = RL::RM;
+  const int n = p.n;
+  for (int l = 0; l < L; ++l) {
+    out[l].P.setZero();
+    out[l].W = 0.0;
+    out[l].fallback = 0;
+    out[l].F = Mat3::Identity();
+  }
+  if (p.atom_singular) {
+    for (int l = 0; l < L; ++l)
+      for (int k = 0; k < 3 * n; ++k) in[l].t[k] = 0.0;
+    return true;
+  }
+  s.reserve(n, std::max(n, p.program.nrow), L);
+  double *__restrict w = s.main_rows();
+  double *__restrict side = s.side.data();
+  double *__restrict sums = s.sums.data();
+  double *__restrict gI = s.g.data();
+  auto put = [&](int row, int c, int l, double v) {
+    if (c < NM) w[RM * row + L * c + l] = v;
+    else side[L * row + l] = v;
+  };
+  bool linear = true;
+  double lam[L], mu[L];
+  for (int l = 0; l < L; ++l) {
+    linear = linear && in[l].lin && in[l].lin->ok;
+    lam[l] = in[l].lin ? in[l].lin->lam : 0.0;
+    mu[l] = in[l].lin ? in[l].lin->mu : 0.0;
+  }
+
+  // X_k = w U (x) b into the work rows, and the whole family's sum for its F
+  double nall[NC][L] = {};
+  for (int k = 0; k < n; ++k) {
+    const double *bk = &p.b[3 * k];
+    for (int a = 0; a < DIM; ++a)
+      for (int l = 0; l < L; ++l) {
+        const double wu = p.w[k] * in[l].U[3 * k + a];
+        for (int c = 0; c < DIM; ++c) {
+          const double x = wu * bk[c];
+          put(k, a * DIM + c, l, x);
+          nall[a * DIM + c][l] += x;
+        }
+      }
+  }
+  double hfam[NC][L];
+  for (int l = 0; l < L; ++l) {
+    double nl[NC], hl[NC];
+    for (int c = 0; c < NC; ++c) nl[c] = nall[c][l];
+    block_mul<DIM>(nl, p.kinv_full, hl);
+    for (int c = 0; c < NC; ++c) hfam[c][l] = hl[c];
+    out[l].F = identity_plus<DIM>(hl);
+  }
+  bond_sums<DIM, L>(p, s, sums);
+
+  // bond-associated F_j, P_j and G_j = c_j P_j K_j^-1; Form II writes G
+  // straight into the work rows of the second sum
+  double cs_force = 0.0, cs_beta = 0.0;
+  double hmean[NC][L] = {};    // linear law: sum_j beta_j H_j
+  for (int j = 0; j < n; ++j) {
+    double g[NC][L];
+    if (p.singular[j]) {
+      for (int c = 0; c < NC; ++c)
+        for (int l = 0; l < L; ++l) g[c][l] = 0.0;
+      cs_force += p.cforce[j];
+      cs_beta += p.beta[j];
+      for (int l = 0; l < L; ++l) out[l].fallback++;
+    } else {
+      const double *N = sums + NC * L * j;    // [c][l]
+      const double *Ki = &p.kinv[NC * j];
+      double h[NC][L], pb[NC][L];
+      for (int a = 0; a < DIM; ++a)
+        for (int b = 0; b < DIM; ++b)
+          for (int l = 0; l < L; ++l) {
+            double v = 0.0;
+            for (int m = 0; m < DIM; ++m) v += N[L * (a * DIM + m) + l] * Ki[m * DIM + b];
+            h[a * DIM + b][l] = v;
+          }
+      if (linear) {
+        double tr[L] = {};
+        for (int a = 0; a < DIM; ++a)
+          for (int l = 0; l < L; ++l) tr[l] += h[a * DIM + a][l];
+        for (int a = 0; a < DIM; ++a)
+          for (int c = 0; c < DIM; ++c)
+            for (int l = 0; l < L; ++l)
+              pb[a * DIM + c][l] = mu[l] * (h[a * DIM + c][l] + h[c * DIM + a][l]) +
+                  (a == c ? lam[l] * tr[l] : 0.0);
+        if (energy)
+          for (int l = 0; l < L; ++l) {
+            double w2 = 0.0;
+            for (int c = 0; c < NC; ++c) w2 += pb[c][l] * h[c][l];
+            out[l].W += 0.5 * p.beta[j] * w2;
+          }
+        for (int c = 0; c < NC; ++c)
+          for (int l = 0; l < L; ++l) hmean[c][l] += p.beta[j] * h[c][l];
+      } else {
+        for (int l = 0; l < L; ++l) {
+          double hl[NC];
+          for (int c = 0; c < NC; ++c) hl[c] = h[c][l];
+          Mat3 F = identity_plus<DIM>(hl), P;
+          double W;
+          if (!first_piola(law, plane, *in[l].m, F, P, W)) {
+            out[l].bad = j;
+            return false;
+          }
+          out[l].P += p.beta[j] * P;
+          out[l].W += p.beta[j] * W;
+          for (int a = 0; a < DIM; ++a)
+            for (int c = 0; c < DIM; ++c) pb[a * DIM + c][l] = P(a, c);
+        }
+      }
+      const double cj = p.cforce[j];
+      for (int a = 0; a < DIM; ++a)
+        for (int b = 0; b < DIM; ++b)
+          for (int l = 0; l < L; ++l) {
+            double v = 0.0;
+            for (int m = 0; m < DIM; ++m) v += pb[a * DIM + m][l] * Ki[m * DIM + b];
+            g[a * DIM + b][l] = cj * v;
+          }
+    }
+    for (int c = 0; c < NC; ++c)
+      for (int l = 0; l < L; ++l) {
+        if (form == HSForm::II) put(j, c, l, g[c][l]);
+        else gI[NC * L * j + L * c + l] = g[c][l];
+      }
+  }
+
+  // singular bond families: the family's F, P(F) K^-1 over the whole family
+  double gs[NC][L] = {};
+  if (cs_force > 0.0 || cs_beta > 0.0) {
+    for (int l = 0; l < L; ++l) {
+      Mat3 F = out[l].F, P;
+      double W;
+      if (!first_piola(law, plane, *in[l].m, F, P, W)) {
+        out[l].bad = -1;
+        return false;
+      }
+      out[l].F = F;
+      if (linear)
+        for (int c = 0; c < NC; ++c) hmean[c][l] += cs_beta * hfam[c][l];
+      else
+        out[l].P += cs_beta * P;
+      out[l].W += cs_beta * W;
+      double pl[NC], gl[NC];
+      block_of<DIM>(P, pl);
+      block_mul<DIM>(pl, p.kinv_full, gl);
+      for (int c = 0; c < NC; ++c) gs[c][l] = gl[c];
+    }
+  }
+  if (linear)
+    for (int l = 0; l < L; ++l) {
+      // the law is linear: the mean of the bonds' P is P of their mean H
+      double hl[NC];
+      for (int c = 0; c < NC; ++c) hl[c] = hmean[c][l];
+      Mat3 F = identity_plus<DIM>(hl);
+      double W;
+      first_piola(law, plane, *in[l].m, F, out[l].P, W);
+    }
+
+  // Gbar_k: Form II sums G over the bond-associated family of k
+  if (form == HSForm::II) bond_sums<DIM, L>(p, s, sums);
+
+  // force state: t_k = Gbar_k b_k
+  for (int k = 0; k < n; ++k) {
+    double gk[NC][L];
+    if (form == HSForm::II) {
+      const double *row = sums + NC * L * k;
+      for (int c = 0; c < NC; ++c)
+        for (int l = 0; l < L; ++l) gk[c][l] = row[L * c + l] + cs_force * gs[c][l];
+    } else if (p.singular[k]) {
+      for (int c = 0; c < NC; ++c)
+        for (int l = 0; l < L; ++l) gk[c][l] = p.cforce[k] * gs[c][l];
+    } else {
+      const double *row = gI + NC * L * k;
+      for (int c = 0; c < NC; ++c)
+        for (int l = 0; l < L; ++l) gk[c][l] = row[L * c + l];
+    }
+    const double *bk = &p.b[3 * k];
+    for (int l = 0; l < L; ++l) {
+      double *tk = in[l].t + 3 * k;
+      for (int a = 0; a < DIM; ++a) {
+        double v = 0.0;
+        for (int c = 0; c < DIM; ++c) v += gk[a * DIM + c][l] * bk[c];
+        tk[a] = v;
+      }
+      if (DIM == 2) tk[2] = 0.0;
+    }
+  }
+  return true;
+}
+
+/* One family: the single-lane case. */
+template <int DIM>
+bool evaluate_family(const BondPattern &p, HSForm form, Law law, Plane plane, const Lame &m,
+                     const LinearLaw &lin, bool energy, const double *U, double *t,
+                     StateScratch &s, StateOutput &out)
+{
+  LaneInput in;
+  in.m = &m;
+  in.lin = &lin;
+  in.U = U;
+  in.t = t;
+  return evaluate_families<DIM, 1>(p, form, law, plane, &in, energy, s, &out);
+}
+
+/* The member lists of every bond-associated family of a pattern (input of
+   build_sum_program). */
+inline std::vector<std::vector<int>> member_sets(const BondPattern &p)
+{
+  std::vector<std::vector<int>> sets(p.n);
+  for (int j = 0; j < p.n; ++j) {
+    const uint16_t *r = &p.runs[2 * p.run_first[j]];
+    for (int q = 0; q < p.run_first[j + 1] - p.run_first[j]; ++q)
+      for (int k = r[2 * q]; k < r[2 * q + 1]; ++k) sets[j].push_back(k);
+  }
+  return sets;
+}
+
+/* F_j of one bond-associated family (output and tests): slot j of the
+   pattern, U in slot order.  Returns false (F = family F) where K_j is
+   singular. */
+template <int DIM>
+bool bond_defgrad(const BondPattern &p, int j, const double *U, Mat3 &F)
+{
+  constexpr int NC = DIM * DIM;
+  double nsum[NC] = {}, h[NC];
+  const bool own = !p.singular[j];
+  for (int k = 0; k < p.n; ++k) {
+    if (own) {
+      const double dx = p.b[3 * k] - p.b[3 * j], dy = p.b[3 * k + 1] - p.b[3 * j + 1],
+                   dz = p.b[3 * k + 2] - p.b[3 * j + 2];
+      if (dx * dx + dy * dy + dz * dz > p.radius * p.radius) continue;
+    }
+    for (int a = 0; a < DIM; ++a)
+      for (int c = 0; c < DIM; ++c) nsum[a * DIM + c] += p.w[k] * U[3 * k + a] * p.b[3 * k + c];
+  }
+  block_mul<DIM>(nsum, own ? &p.kinv[NC * j] : p.kinv_full, h);
+  F = identity_plus<DIM>(h);
+  return own;
+}
+
+}    // namespace NOSPD
+
+#endif

@@ -1,0 +1,654 @@
+/* ----------------------------------------------------------------------
+   PERI-NOSPD: correspondence peridynamics for LAMMPS.
+   Horizon-stabilized (bond-associated) correspondence pair style.
+------------------------------------------------------------------------- */
+
+#include "pair_peri_nospd_hs.h"
+
+#include "atom.h"
+#include "citeme.h"
+#include "comm.h"
+#include "domain.h"
+#include "error.h"
+#include "fix_nospd_bonds.h"
+#include "force.h"
+#include "memory.h"
+#include "update.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+using namespace LAMMPS_NS;
+using NOSPD::BondPattern;
+using NOSPD::HSForm;
+using NOSPD::Mat3;
+
+static const char cite_nospd_hs[] =
+    "pair peri/nospd/hs: Chen and Spencer, IJNME 117 (2019) 713\n\n"
+    "@Article{ChenSpencer19,\n"
+    " author = {H. Chen and B. W. Spencer},\n"
+    " title = {Peridynamic bond-associated correspondence model: Stability and convergence "
+    "properties},\n"
+    " journal = {Int.~J.~Numer.~Meth.~Engng.},\n"
+    " year =    2019,\n"
+    " volume =  117,\n"
+    " number =  6,\n"
+    " pages =   {713--727}\n"
+    "}\n\n";
+
+// offsets are matched to patterns after rounding to this fraction of the
+// horizon: far below any spacing, far above the round-off of x0 differences
+static constexpr double KEY_QUANTUM = 1.0e-10;
+// weights of two families of one pattern agree to this relative tolerance
+static constexpr double WEIGHT_TOL = 1.0e-12;
+// patterns shared by at least this many families get a sum program (its
+// construction costs about as much as evaluating a few hundred families)
+static constexpr int PROGRAM_USERS = 64;
+
+/* ----------------------------------------------------------------------
+   The evaluation kernel, built for the generic target and, on x86-64
+   Linux with GCC >= 11, also for AVX2 and AVX-512 (the best one the CPU
+   has is chosen when the plugin loads).  Its row sums and 3x3 products
+   are plain loops that widen with the target; this makes a default build
+   about 10% faster on CPUs that have the wider units.  Define
+   NOSPD_NO_KERNEL_CLONES to build the generic kernel only.
+------------------------------------------------------------------------- */
+
+#if !defined(NOSPD_NO_KERNEL_CLONES) && defined(__x86_64__) && defined(__linux__) && \
+    !defined(__clang__) && \
+    !defined(__INTEL_LLVM_COMPILER) && defined(__GNUC__) && __GNUC__ >= 11
+#define NOSPD_KERNEL_CLONES \
+  __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default"), flatten))
+#else
+#define NOSPD_KERNEL_CLONES
+#endif
+
+namespace {
+template <int DIM, int L>
+NOSPD_KERNEL_CLONES bool evaluate(const BondPattern &p, HSForm form, NOSPD::Law law,
+                                  NOSPD::Plane plane, const NOSPD::LaneInput *in, bool energy,
+                                  NOSPD::StateScratch &s, NOSPD::StateOutput *out)
+{
+  return NOSPD::evaluate_families<DIM, L>(p, form, law, plane, in, energy, s, out);
+}
+}    // namespace
+
+/* ---------------------------------------------------------------------- */
+
+PairPeriNospdHS::PairPeriNospdHS(LAMMPS *lmp) :
+    PairPeriNospd(lmp), hs_form(HSForm::II), hs_ratio(1.0), mapped_version(-1),
+    nsingular_bonds(0), nfallback_states(0), reported(false), nmax_ghost(0), fghost(nullptr),
+    vghost(nullptr), reverse_virial(0)
+{
+  if (lmp->citeme) lmp->citeme->add(cite_nospd_hs);
+  stab = NOSPD::Stab::NONE;
+  comm_forward = 0;
+  comm_reverse = 9;    // force, and the per-atom virial when it is wanted
+  nextra = 1;          // compute pair: bond families on the singular-K fallback
+  pvector = new double[nextra];
+  pvector[0] = 0.0;
+}
+
+/* ---------------------------------------------------------------------- */
+
+PairPeriNospdHS::~PairPeriNospdHS()
+{
+  delete[] pvector;
+  memory->destroy(fghost);
+  memory->destroy(vghost);
+}
+
+/* ----------------------------------------------------------------------
+   pair_style peri/nospd/hs keyword value ...
+   form I|II and ratio r here; the classical style's keywords pass on.
+   Stabilization is pointless: "stabilization none" is accepted so that
+   one deck can switch between the styles, anything else is an error.
+------------------------------------------------------------------------- */
+
+void PairPeriNospdHS::settings(int narg, char **arg)
+{
+  const std::string cmd = std::string("pair_style ") + force->pair_style;
+  std::vector<char *> rest;
+  int iarg = 0;
+  while (iarg < narg) {
+    const std::string key = arg[iarg];
+    if (iarg + 1 >= narg) {
+      rest.push_back(arg[iarg++]);    // the classical parser reports the missing value
+      continue;
+    }
+    const std::string val = arg[iarg + 1];
+    if (key == "form") {
+      if (val == "I" || val == "1") hs_form = HSForm::I;
+      else if (val == "II" || val == "2") hs_form = HSForm::II;
+      else error->all(FLERR, "{}: unknown form '{}' (I, II)", cmd, val);
+    } else if (key == "ratio") {
+      hs_ratio = utils::numeric(FLERR, val, false, lmp);
+      if (!(hs_ratio > 0.0))
+        error->all(FLERR, "{}: ratio must be > 0, got {}", cmd, val);
+    } else if (key == "stabilization") {
+      if (val != "none")
+        error->all(FLERR, "{}: the bond-associated model controls zero-energy modes by itself; "
+                   "stabilization must be none, got '{}'", cmd, val);
+    } else {
+      rest.push_back(arg[iarg]);
+      rest.push_back(arg[iarg + 1]);
+    }
+    iarg += 2;
+  }
+  PairPeriNospd::settings((int) rest.size(), rest.data());
+  stab = NOSPD::Stab::NONE;
+  // new settings may change every pattern
+  patterns.clear();
+  pattern_lookup.clear();
+  mapped_version = -1;
+}
+
+/* ---------------------------------------------------------------------- */
+
+void PairPeriNospdHS::init_style()
+{
+  PairPeriNospd::init_style();
+  comm_forward = 0;
+  reported = false;
+  linear_law.assign(atom->ntypes + 1, NOSPD::LinearLaw());
+  for (int i = 1; i <= atom->ntypes; i++)
+    linear_law[i] = NOSPD::probe_linear_law(strain_law, plane_mode, lame[i], domain->dimension);
+}
+
+/* ---------------------------------------------------------------------- */
+
+void PairPeriNospdHS::compute(int eflag, int vflag)
+{
+  ev_init(eflag, vflag);
+  if (mapped_version != fix_bonds->bond_version || (int) state_pattern.size() != atom->nlocal)
+    map_families();
+
+  // forces and per-atom virial landing on ghosts; the virial buffer only
+  // when a per-atom virial is wanted
+  const int nall = atom->nlocal + atom->nghost;
+  reverse_virial = vflag_atom ? 1 : 0;
+  if (atom->nmax > nmax_ghost) {
+    nmax_ghost = atom->nmax;
+    memory->destroy(fghost);
+    memory->destroy(vghost);
+    memory->create(fghost, nmax_ghost, 3, "pair:fghost");
+  }
+  if (reverse_virial && !vghost) memory->create(vghost, nmax_ghost, 6, "pair:vghost");
+  if (nall) memset(&fghost[0][0], 0, sizeof(double) * 3 * nall);
+  if (nall && reverse_virial) memset(&vghost[0][0], 0, sizeof(double) * 6 * nall);
+
+  const bool virial = vflag_either;
+  if (domain->dimension == 2) virial ? force_pass<2, 1>(eflag) : force_pass<2, 0>(eflag);
+  else virial ? force_pass<3, 1>(eflag) : force_pass<3, 0>(eflag);
+
+  // forces (and virial) scattered onto ghosts go home
+  comm->reverse_comm(this);
+  double **f = atom->f;
+  const int nlocal = atom->nlocal;
+  for (int i = 0; i < nlocal; i++)
+    for (int k = 0; k < 3; k++) f[i][k] += fghost[i][k];
+  if (reverse_virial)
+    for (int i = 0; i < nlocal; i++)
+      for (int k = 0; k < 6; k++) vatom[i][k] += vghost[i][k];
+}
+
+/* ----------------------------------------------------------------------
+   Gather the displacement differences U of i's family in pattern order
+   into ubuf[lane], and the partners' local indices into jbuf[lane].
+------------------------------------------------------------------------- */
+
+void PairPeriNospdHS::gather_family(int i, const BondPattern &p, const uint16_t *perm, int lane)
+{
+  const double *const xf = atom->x[0];
+  const double *const x0f = fix_bonds->x0s[0];
+  const int *bj = fix_bonds->bond_j + fix_bonds->bond_first[i];
+  const double xi = xf[3 * i], yi = xf[3 * i + 1], zi = xf[3 * i + 2];
+  const double Xi = x0f[3 * i], Yi = x0f[3 * i + 1], Zi = x0f[3 * i + 2];
+  double *u = ubuf[lane].data();
+  int *jl = jbuf[lane].data();
+  for (int s = 0; s < p.n; s++) {
+    const int j = bj[perm[s]];
+    jl[s] = j;
+    u[3 * s] = (xf[3 * j] - xi) - (x0f[3 * j] - Xi);
+    u[3 * s + 1] = (xf[3 * j + 1] - yi) - (x0f[3 * j + 1] - Yi);
+    u[3 * s + 2] = (xf[3 * j + 2] - zi) - (x0f[3 * j + 2] - Zi);
+  }
+}
+
+/* ----------------------------------------------------------------------
+   Families are evaluated two at a time where two atoms share a pattern
+   (the lanes of evaluate_families), else one at a time.
+------------------------------------------------------------------------- */
+
+template <int DIM, int VIRIAL> void PairPeriNospdHS::force_pass(int eflag)
+{
+  // two lanes pay in 2D, where a family's rows are short; in 3D the rows
+  // of two families no longer fit the L1 cache and one lane is faster
+  constexpr int LANES = DIM == 2 ? 2 : 1;
+  const int nlocal = atom->nlocal;
+  const int *type = atom->type;
+  NOSPD::StateOutput out[2];
+  NOSPD::LaneInput in[2];
+  for (int q = 0; q < nlocal;) {
+    const int i0 = state_order[q];
+    const BondPattern &p = patterns[state_pattern[i0]];
+    const int lanes = (LANES == 2 && q + 1 < nlocal &&
+                       state_pattern[state_order[q + 1]] == state_pattern[i0]) ? 2 : 1;
+    int atoms[2] = {i0, lanes == 2 ? state_order[q + 1] : -1};
+    for (int l = 0; l < lanes; l++) {
+      const int i = atoms[l];
+      gather_family(i, p, &state_perm[state_first[i]], l);
+      in[l].m = &lame[type[i]];
+      in[l].lin = &linear_law[type[i]];
+      in[l].U = ubuf[l].data();
+      in[l].t = tbuf[l].data();
+    }
+    const bool ok = lanes == 2
+        ? evaluate<DIM, 2>(p, hs_form, strain_law, plane_mode, in, eflag != 0, scratch, out)
+        : evaluate<DIM, 1>(p, hs_form, strain_law, plane_mode, in, eflag != 0, scratch, out);
+    for (int l = 0; l < lanes; l++) {
+      if (!ok && out[l].bad != -2) {
+        const tagint partner = out[l].bad >= 0 ? atom->tag[jbuf[l][out[l].bad]] : 0;
+        error->one(FLERR, "pair_style {}: atom {}: the finite-strain law is undefined (det F "
+                   "<= 0) for the {} of its bond to atom {}", force->pair_style,
+                   atom->tag[atoms[l]], out[l].bad >= 0 ? "bond-associated family" :
+                   "whole family", partner);
+      }
+      apply_family<VIRIAL>(atoms[l], p, l, out[l], eflag);
+    }
+    q += lanes;
+  }
+}
+
+/* ----------------------------------------------------------------------
+   Store one family's state for output and apply its force state:
+     f_i += w_k t_k,   f_k -= (V_i/V_k) w_k t_k,   T_i<xi_k> = omega_k t_k
+   (force densities: the true forces V_i w_k t_k are equal and opposite).
+   Per-atom virial: half of each pair's r (x) f to either end.
+------------------------------------------------------------------------- */
+
+template <int VIRIAL>
+void PairPeriNospdHS::apply_family(int i, const BondPattern &p, int lane,
+                                   const NOSPD::StateOutput &out, int eflag)
+{
+  double **f = atom->f;
+  double **x = atom->x;
+  const double *const vfrac = atom->vfrac;
+  const double *const inv_vol = inv_vfrac.data();
+  double *const fg = fghost[0];
+  double *const vg = VIRIAL && vflag_atom ? vghost[0] : nullptr;
+  if (p.atom_singular) {
+    // no force state of its own, as in the classical style
+    NOSPD::store(Mat3::Identity(), fix_bonds->defgrad[i]);
+    NOSPD::store(Mat3::Zero(), fix_bonds->pk1[i]);
+    fix_bonds->energy_density[i] = 0.0;
+    return;
+  }
+  NOSPD::store(out.F, fix_bonds->defgrad[i]);
+  NOSPD::store(out.P, fix_bonds->pk1[i]);
+  if (eflag) {
+    fix_bonds->energy_density[i] = out.W;
+    tally_energy(i, out.W);
+  }
+
+  const int n = p.n;
+  const double vi = vfrac[i];
+  const double *t = tbuf[lane].data();
+  const int *jl = jbuf[lane].data();
+  const double *w = p.w.data();
+  double fx = 0.0, fy = 0.0, fz = 0.0;
+  double v[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+  for (int s = 0; s < n; s++) {
+    const int j = jl[s];
+    const double gx = w[s] * t[3 * s], gy = w[s] * t[3 * s + 1], gz = w[s] * t[3 * s + 2];
+    fx += gx;
+    fy += gy;
+    fz += gz;
+    const double r = vi * inv_vol[j];
+    fg[3 * j] -= r * gx;
+    fg[3 * j + 1] -= r * gy;
+    fg[3 * j + 2] -= r * gz;
+    if (VIRIAL) {
+      // r (x) F with r = x_i - x_j, half to each end
+      const double hx = 0.5 * (x[i][0] - x[j][0]), hy = 0.5 * (x[i][1] - x[j][1]),
+                   hz = 0.5 * (x[i][2] - x[j][2]);
+      const double vij[6] = {hx * gx, hy * gy, hz * gz, hx * gy, hx * gz, hy * gz};
+      for (int k = 0; k < 6; k++) v[k] += vij[k];
+      if (vflag_global)
+        for (int k = 0; k < 6; k++) virial[k] += r * vij[k];
+      if (vflag_atom)
+        for (int k = 0; k < 6; k++) vg[6 * j + k] += r * vij[k];
+    }
+  }
+  f[i][0] += fx;
+  f[i][1] += fy;
+  f[i][2] += fz;
+  if (VIRIAL) {
+    if (vflag_global)
+      for (int k = 0; k < 6; k++) virial[k] += v[k];
+    if (vflag_atom)
+      for (int k = 0; k < 6; k++) vatom[i][k] += v[k];
+  }
+}
+
+/* ----------------------------------------------------------------------
+   Assign every owned atom's family to a pattern, after the bonds fix
+   rebuilt its arrays (reneighboring, broken bonds).  The order of an
+   atom's bonds in those arrays is fixed while no bond of it breaks, so
+   an atom found at the same index with as many bonds as before keeps its
+   pattern and slot order, once the weights still match; the others are
+   matched afresh.  Patterns nobody uses any more are dropped.
+------------------------------------------------------------------------- */
+
+void PairPeriNospdHS::map_families()
+{
+  const int nlocal = atom->nlocal;
+  const tagint *tag = atom->tag;
+  const int *bfirst = fix_bonds->bond_first;
+  const double *bw = fix_bonds->bond_w;
+  const int *type = atom->type;
+
+  std::vector<int> npat(nlocal), nfirst(nlocal + 1), ncount(nlocal);
+  std::vector<tagint> ntag(nlocal);
+  std::vector<uint16_t> nperm;
+  nperm.reserve(bfirst[nlocal]);
+  std::vector<uint16_t> perm;
+  const int nold = (int) state_pattern.size();
+  for (int i = 0; i < nlocal; i++) {
+    const int cnt = bfirst[i + 1] - bfirst[i];
+    nfirst[i] = (int) nperm.size();
+    ncount[i] = cnt;
+    ntag[i] = tag[i];
+    bool keep = mapped_version >= 0 && i < nold && state_tag[i] == tag[i] &&
+        state_count[i] == cnt && state_pattern[i] >= 0;
+    if (keep) {
+      const BondPattern &p = patterns[state_pattern[i]];
+      keep = p.radius == hs_ratio * cut[type[i]][type[i]];
+      const uint16_t *op = &state_perm[state_first[i]];
+      for (int s = 0; keep && s < cnt; s++)
+        keep = std::abs(bw[bfirst[i] + op[s]] - p.w[s]) <= WEIGHT_TOL * p.w[s];
+      if (keep) {
+        npat[i] = state_pattern[i];
+        nperm.insert(nperm.end(), op, op + cnt);
+        continue;
+      }
+    }
+    npat[i] = match_pattern(i, perm);
+    nperm.insert(nperm.end(), perm.begin(), perm.end());
+  }
+  nfirst[nlocal] = (int) nperm.size();
+
+  // drop unused patterns and renumber
+  std::vector<int> users(patterns.size(), 0), renum(patterns.size(), -1);
+  for (int i = 0; i < nlocal; i++) users[npat[i]]++;
+  std::vector<BondPattern> kept;
+  pattern_lookup.clear();
+  for (size_t k = 0; k < patterns.size(); k++) {
+    if (!users[k]) continue;
+    renum[k] = (int) kept.size();
+    kept.push_back(std::move(patterns[k]));
+  }
+  patterns.swap(kept);
+  for (size_t k = 0; k < patterns.size(); k++) {
+    const BondPattern &p = patterns[k];
+    uint64_t h = 1469598103934665603ULL;
+    for (int64_t v : p.key) h = (h ^ (uint64_t) v) * 1099511628211ULL;
+    pattern_lookup.emplace(h, (int) k);
+  }
+  for (int i = 0; i < nlocal; i++) npat[i] = renum[npat[i]];
+
+  state_pattern.swap(npat);
+  state_first.swap(nfirst);
+  state_count.swap(ncount);
+  state_tag.swap(ntag);
+  state_perm.swap(nperm);
+  mapped_version = fix_bonds->bond_version;
+
+  // 1/V of owned and ghost atoms, for the partners' share of each force
+  const int nall = nlocal + atom->nghost;
+  inv_vfrac.resize(nall);
+  for (int i = 0; i < nall; i++) inv_vfrac[i] = 1.0 / atom->vfrac[i];
+
+  // evaluation order: atoms grouped by pattern, so that neighbours in the
+  // order can share an evaluation
+  std::vector<int> start(patterns.size() + 1, 0);
+  for (int i = 0; i < nlocal; i++) start[state_pattern[i] + 1]++;
+  for (size_t k = 0; k < patterns.size(); k++) start[k + 1] += start[k];
+  state_order.assign(nlocal, 0);
+  for (int i = 0; i < nlocal; i++) state_order[start[state_pattern[i]]++] = i;
+
+  // scratch for the largest family
+  int nbig = 0;
+  for (auto &p : patterns) nbig = std::max(nbig, p.n);
+  for (int l = 0; l < 2; l++)
+    if ((int) ubuf[l].size() < 3 * nbig) {
+      ubuf[l].assign(3 * nbig, 0.0);
+      tbuf[l].assign(3 * nbig, 0.0);
+      jbuf[l].assign(nbig, 0);
+    }
+  for (size_t k = 0; k < patterns.size(); k++)
+    if (users[k] >= PROGRAM_USERS && !patterns[renum[k]].program.ready())
+      patterns[renum[k]].program = NOSPD::build_sum_program(NOSPD::member_sets(patterns[renum[k]]),
+                                                            patterns[renum[k]].n);
+
+  // bond families that fall back to the family's F
+  bigint nsing = 0, nfall = 0;
+  for (int i = 0; i < nlocal; i++) {
+    const BondPattern &p = patterns[state_pattern[i]];
+    if (p.atom_singular) continue;
+    nsing += p.nsingular;
+    nfall += p.nsingular ? 1 : 0;
+  }
+  pvector[0] = (double) nsing;
+  MPI_Allreduce(&nsing, &nsingular_bonds, 1, MPI_LMP_BIGINT, MPI_SUM, world);
+  MPI_Allreduce(&nfall, &nfallback_states, 1, MPI_LMP_BIGINT, MPI_SUM, world);
+
+  if (!reported) {
+    report_patterns();
+    reported = true;
+  }
+}
+
+/* ----------------------------------------------------------------------
+   Find (or build) the pattern of atom i's family; perm receives, for each
+   slot of the pattern, the bond's offset within i's part of the fix's
+   arrays.  The key is the family's offsets rounded to KEY_QUANTUM*delta,
+   in lexicographic (z, y, x) order.
+------------------------------------------------------------------------- */
+
+int PairPeriNospdHS::match_pattern(int i, std::vector<uint16_t> &perm)
+{
+  const int bf = fix_bonds->bond_first[i];
+  const int n = fix_bonds->bond_first[i + 1] - bf;
+  if (n > 65535)
+    error->one(FLERR, "pair_style {}: atom {} has {} bonds; at most 65535 are supported",
+               force->pair_style, atom->tag[i], n);
+  const int *bj = fix_bonds->bond_j + bf;
+  const double *bw = fix_bonds->bond_w + bf;
+  double **x0s = fix_bonds->x0s;
+  const double delta = cut[atom->type[i]][atom->type[i]];
+  const double radius = hs_ratio * delta;
+  const double q = KEY_QUANTUM * delta;
+
+  struct Item {
+    int64_t k[3];    // z, y, x
+    int off;
+  };
+  std::vector<Item> items(n);
+  for (int s = 0; s < n; s++) {
+    const int j = bj[s];
+    for (int c = 0; c < 3; c++)
+      items[s].k[2 - c] = (int64_t) std::llround((x0s[j][c] - x0s[i][c]) / q);
+    items[s].off = s;
+  }
+  std::sort(items.begin(), items.end(), [](const Item &a, const Item &b) {
+    return std::lexicographical_compare(a.k, a.k + 3, b.k, b.k + 3);
+  });
+  std::vector<int64_t> key(3 * n);
+  for (int l = 0; l < n; l++)
+    for (int c = 0; c < 3; c++) key[3 * l + c] = items[l].k[2 - c];    // x, y, z
+  uint64_t h = 1469598103934665603ULL;
+  for (int64_t v : key) h = (h ^ (uint64_t) v) * 1099511628211ULL;
+
+  int found = -1;
+  auto range = pattern_lookup.equal_range(h);
+  for (auto it = range.first; it != range.second && found < 0; ++it) {
+    const BondPattern &p = patterns[it->second];
+    if (p.n != n || p.radius != radius || p.key != key) continue;
+    bool same = true;
+    for (int l = 0; same && l < n; l++) {
+      const double wp = p.w[p.lex_to_slot[l]];
+      same = std::abs(bw[items[l].off] - wp) <= WEIGHT_TOL * wp;
+    }
+    if (same) found = it->second;
+  }
+
+  if (found < 0) {
+    std::vector<double> b(3 * n), w(n), vol(n);
+    const double *vfrac = atom->vfrac;
+    for (int l = 0; l < n; l++) {
+      const int j = bj[items[l].off];
+      for (int c = 0; c < 3; c++) b[3 * l + c] = x0s[j][c] - x0s[i][c];
+      w[l] = bw[items[l].off];
+      vol[l] = vfrac[j];
+    }
+    patterns.emplace_back();
+    NOSPD::build_pattern(patterns.back(), domain->dimension, n, b.data(), w.data(), vol.data(),
+                         key, radius, hs_form, singular_tol);
+    found = (int) patterns.size() - 1;
+    pattern_lookup.emplace(h, found);
+  }
+
+  const BondPattern &p = patterns[found];
+  perm.assign(n, 0);
+  for (int l = 0; l < n; l++) perm[p.lex_to_slot[l]] = (uint16_t) items[l].off;
+  return found;
+}
+
+/* ----------------------------------------------------------------------
+   Once per run: the bond-associated families in numbers.  A ratio that
+   leaves most bond-associated families degenerate is an input error.
+------------------------------------------------------------------------- */
+
+void PairPeriNospdHS::report_patterns()
+{
+  double loc[5] = {0.0, 0.0, 0.0, (double) patterns.size(), 0.0}, all[5];
+  for (int i = 0; i < atom->nlocal; i++) {
+    const BondPattern &p = patterns[state_pattern[i]];
+    loc[0] += p.n;
+    loc[1] += (double) p.members;
+    loc[2] += (double) p.runs.size() / 2.0;
+  }
+  for (auto &p : patterns) loc[4] += p.bytes();
+  loc[4] += (double) state_perm.size() * sizeof(uint16_t) +
+      (double) state_pattern.size() * (3 * sizeof(int) + sizeof(tagint));
+  MPI_Allreduce(loc, all, 5, MPI_DOUBLE, MPI_SUM, world);
+  const double natoms = (double) MAX(atom->natoms, 1);
+  const double nbonds = MAX(all[0], 1.0);
+  if (comm->me == 0)
+    utils::logmesg(lmp,
+                   "PERI-NOSPD bond-associated families (pair {}, form {}, ratio {}):\n"
+                   "  bond families = {:.0f}, mean members = {:.4g}, mean runs = {:.4g}\n"
+                   "  singular bond families (family F used) = {}, in {} atoms\n"
+                   "  patterns = {:.0f} (summed over ranks), pattern and mapping state = "
+                   "{:.0f} bytes/point\n",
+                   force->pair_style, hs_form == HSForm::I ? "I" : "II", hs_ratio, all[0],
+                   all[1] / nbonds, all[2] / nbonds, nsingular_bonds, nfallback_states, all[3],
+                   all[4] / natoms);
+  if (fix_bonds->nbonds_broken == 0 && all[0] > 0.0 && nsingular_bonds > 0.5 * all[0])
+    error->all(FLERR, "pair_style {}: ratio {} is too small: {} of {:.0f} bond-associated "
+               "families are degenerate (fewer than {} non-coplanar members); use a larger ratio",
+               force->pair_style, hs_ratio, nsingular_bonds, all[0], domain->dimension);
+}
+
+/* ----------------------------------------------------------------------
+   F of one bond-associated family, for output and tests
+------------------------------------------------------------------------- */
+
+int PairPeriNospdHS::bond_defgrad(int i, int b, double *F)
+{
+  if (mapped_version != fix_bonds->bond_version || i < 0 || i >= (int) state_pattern.size())
+    return -1;
+  const BondPattern &p = patterns[state_pattern[i]];
+  const uint16_t *perm = &state_perm[state_first[i]];
+  const int off = b - fix_bonds->bond_first[i];
+  int slot = -1;
+  for (int s = 0; s < p.n && slot < 0; s++)
+    if (perm[s] == off) slot = s;
+  if (slot < 0) return -1;
+  gather_family(i, p, perm, 0);
+  Mat3 Fm;
+  const bool own = domain->dimension == 2 ? NOSPD::bond_defgrad<2>(p, slot, ubuf[0].data(), Fm)
+                                          : NOSPD::bond_defgrad<3>(p, slot, ubuf[0].data(), Fm);
+  NOSPD::store(Fm, F);
+  return own ? 1 : 0;
+}
+
+/* ---------------------------------------------------------------------- */
+
+int PairPeriNospdHS::pack_reverse_comm(int n, int first, double *buf)
+{
+  int m = 0;
+  const int last = first + n;
+  for (int i = first; i < last; i++) {
+    for (int k = 0; k < 3; k++) buf[m++] = fghost[i][k];
+    if (reverse_virial)
+      for (int k = 0; k < 6; k++) buf[m++] = vghost[i][k];
+  }
+  return m;
+}
+
+/* ---------------------------------------------------------------------- */
+
+void PairPeriNospdHS::unpack_reverse_comm(int n, int *list, double *buf)
+{
+  int m = 0;
+  for (int ii = 0; ii < n; ii++) {
+    const int j = list[ii];
+    for (int k = 0; k < 3; k++) fghost[j][k] += buf[m++];
+    if (reverse_virial)
+      for (int k = 0; k < 6; k++) vghost[j][k] += buf[m++];
+  }
+}
+
+/* ---------------------------------------------------------------------- */
+
+void PairPeriNospdHS::write_restart_settings(FILE *fp)
+{
+  PairPeriNospd::write_restart_settings(fp);
+  const int iv = static_cast<int>(hs_form);
+  fwrite(&iv, sizeof(int), 1, fp);
+  fwrite(&hs_ratio, sizeof(double), 1, fp);
+}
+
+/* ---------------------------------------------------------------------- */
+
+void PairPeriNospdHS::read_restart_settings(FILE *fp)
+{
+  PairPeriNospd::read_restart_settings(fp);
+  int iv = 2;
+  if (comm->me == 0) {
+    utils::sfread(FLERR, &iv, sizeof(int), 1, fp, nullptr, error);
+    utils::sfread(FLERR, &hs_ratio, sizeof(double), 1, fp, nullptr, error);
+  }
+  MPI_Bcast(&iv, 1, MPI_INT, 0, world);
+  MPI_Bcast(&hs_ratio, 1, MPI_DOUBLE, 0, world);
+  hs_form = static_cast<HSForm>(iv);
+  stab = NOSPD::Stab::NONE;
+}
+
+/* ---------------------------------------------------------------------- */
+
+double PairPeriNospdHS::memory_usage()
+{
+  double bytes = (double) nmax_ghost * (vghost ? 9 : 3) * sizeof(double);
+  for (auto &p : patterns) bytes += p.bytes();
+  bytes += (double) state_perm.capacity() * sizeof(uint16_t);
+  bytes += (double) state_pattern.capacity() * (3 * sizeof(int) + sizeof(tagint));
+  bytes += (double) state_order.capacity() * sizeof(int);
+  bytes += (double) (scratch.work.size() + scratch.side.size() + scratch.sums.size() +
+                     scratch.g.size() + 2 * ubuf[0].size() + 2 * tbuf[0].size()) *
+      sizeof(double);
+  return bytes;
+}

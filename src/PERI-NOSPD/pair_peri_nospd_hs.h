@@ -1,0 +1,105 @@
+/* -*- c++ -*- ----------------------------------------------------------
+   PERI-NOSPD: correspondence peridynamics for LAMMPS.
+------------------------------------------------------------------------- */
+
+#ifdef PAIR_CLASS
+// clang-format off
+PairStyle(peri/nospd/hs,PairPeriNospdHS);
+// clang-format on
+#else
+
+#ifndef LMP_PAIR_PERI_NOSPD_HS_H
+#define LMP_PAIR_PERI_NOSPD_HS_H
+
+#include "pair_peri_nospd.h"
+
+#include "nospd_bond_associated.h"
+
+#include <cstdint>
+#include <unordered_map>
+#include <vector>
+
+namespace LAMMPS_NS {
+
+/* Horizon-stabilized (bond-associated) correspondence peridynamics (Chen
+   2018; Chen and Spencer 2019): every bond gets the deformation gradient
+   of the part of the family within ratio*delta of its far end.  Forms I
+   and II, see nospd_bond_associated.h.  Settings, materials and the bonds
+   fix come from the classical style; the force pass is its own.
+
+   Each owned atom evaluates its own family and scatters the forces onto
+   its partners, ghosts included; a reverse communication brings those
+   home.  That needs ghosts only within delta, as the classical style does,
+   and no per-bond data in flight. */
+class PairPeriNospdHS : public PairPeriNospd {
+ public:
+  PairPeriNospdHS(class LAMMPS *);
+  ~PairPeriNospdHS() override;
+
+  void compute(int, int) override;
+  void settings(int, char **) override;
+  void init_style() override;
+  void write_restart_settings(FILE *) override;
+  void read_restart_settings(FILE *) override;
+  int pack_reverse_comm(int, int, double *) override;
+  void unpack_reverse_comm(int, int *, double *) override;
+  double memory_usage() override;
+
+  // Bond-associated deformation gradient of the bond at position b of the
+  // bonds fix's arrays (owned atom i).  Returns 1 if the bond has its own
+  // F, 0 if it falls back to the family's F (singular K_ij), -1 if the
+  // state is unavailable.  For output (a local compute) and tests.
+  virtual int bond_defgrad(int i, int b, double *F);
+
+  NOSPD::HSForm form() const { return hs_form; }
+  double ratio() const { return hs_ratio; }
+  bigint singular_bond_families() const { return nsingular_bonds; }
+  int pattern_count() const { return (int) patterns.size(); }
+
+ protected:
+  NOSPD::HSForm hs_form;
+  double hs_ratio;
+
+  // reference patterns shared by families of the same shape
+  std::vector<NOSPD::BondPattern> patterns;
+  std::unordered_multimap<uint64_t, int> pattern_lookup;
+
+  // per owned atom, valid until the bonds fix rebuilds its arrays:
+  // pattern, and for each pattern slot the bond's offset in the fix's
+  // arrays (slot order -> bond_first[i] + perm)
+  int mapped_version;
+  std::vector<int> state_pattern, state_first, state_count;
+  std::vector<tagint> state_tag;
+  std::vector<uint16_t> state_perm;
+  bigint nsingular_bonds, nfallback_states;
+  bool reported;
+
+  // forces and per-atom virial landing on ghosts, sent home afterwards
+  int nmax_ghost;
+  double **fghost, **vghost;
+  int reverse_virial;
+
+  // per type: the law's linear form, where it has one (small strain)
+  std::vector<NOSPD::LinearLaw> linear_law;
+
+  // per-family scratch
+  NOSPD::StateScratch scratch;
+  std::vector<double> ubuf[2], tbuf[2];    // per lane: U and t of a family
+  std::vector<int> jbuf[2];                // per lane: partners' local indices
+  std::vector<int> state_order;            // owned atoms grouped by pattern
+  std::vector<double> inv_vfrac;           // 1/V, owned and ghost atoms
+
+  void map_families();
+  int match_pattern(int i, std::vector<uint16_t> &perm);
+  void report_patterns();
+  template <int DIM, int VIRIAL> void force_pass(int eflag);
+  template <int VIRIAL>
+  void apply_family(int i, const NOSPD::BondPattern &p, int lane, const NOSPD::StateOutput &out,
+                    int eflag);
+  void gather_family(int i, const NOSPD::BondPattern &p, const uint16_t *perm, int lane);
+};
+
+}    // namespace LAMMPS_NS
+
+#endif
+#endif
