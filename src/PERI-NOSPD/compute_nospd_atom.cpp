@@ -69,7 +69,7 @@ ComputeNospdAtom::~ComputeNospdAtom()
 
 void ComputeNospdAtom::init()
 {
-  pair = dynamic_cast<PairPeriNospd *>(force->pair_match("^peri/nospd", 0));
+  pair = PairPeriNospd::find(force);
   if (!pair) error->all(FLERR, "compute {} requires a peri/nospd pair style", style);
 }
 

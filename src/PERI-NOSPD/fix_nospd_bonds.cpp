@@ -200,10 +200,13 @@ void FixNospdBonds::build_families()
     bool operator<(const Member &o) const { return tag < o.tag; }
   };
   std::vector<std::vector<Member>> fam(nlocal);
+  const int *active = model.active;
   for (int ii = 0; ii < inum; ii++) {
     const int i = ilist[ii];
+    if (active && !active[type[i]]) continue;
     for (int jj = 0; jj < numneigh[i]; jj++) {
       const int j = firstneigh[i][jj] & NEIGHMASK;
+      if (active && !active[type[j]]) continue;
       const double dx = x0s[j][0] - x0s[i][0];
       const double dy = x0s[j][1] - x0s[i][1];
       const double dz = x0s[j][2] - x0s[i][2];
@@ -334,7 +337,13 @@ void FixNospdBonds::update_shape_tensors()
   const int nlocal = atom->nlocal;
   const int dim = model.dim;
   int nsing_local = 0;
+  const int *type = atom->type;
   for (int i = 0; i < nlocal; i++) {
+    if (model.active && !model.active[type[i]]) {
+      singular[i] = 2;    // not a correspondence point: no state, not counted
+      stale[i] = 0;
+      continue;
+    }
     if (all_stale || stale[i]) {
       double k[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
       double mx = 0.0, my = 0.0, mz = 0.0;
@@ -367,7 +376,7 @@ void FixNospdBonds::update_shape_tensors()
       NOSPD::store(Ki, kinv[i]);
       stale[i] = 0;
     }
-    nsing_local += singular[i];
+    nsing_local += (singular[i] == 1);
   }
   all_stale = false;
   bigint one = nsing_local;

@@ -23,6 +23,7 @@ struct NospdBondModel {
   int influence = CONSTANT;
   int dim = 3;
   double singular_tol = 1.0e-4;    // det K / (tr K/dim)^dim below this: singular
+  const int *active = nullptr;     // [ntypes+1]: 1 for the types the pair style owns
 };
 
 /* Owner of the bond families and of the reference and deformation state.
@@ -81,7 +82,8 @@ class FixNospdBonds : public FixPeriNeigh {
   double **kinv;          // K^-1, 9 per atom, row-major; zero if singular
   double **xi_moment;     // sum_j w xi (reference; zero inside a regular grid)
   double **u_moment;      // sum_j w U, filled by pass 1
-  int *singular;          // 1 if K is singular: no correspondence force
+  int *singular;          // 1 if K is singular: no correspondence force;
+                          // 2 if the atom's type is not the style's (pair hybrid)
   double **defgrad;       // F, 9 per atom
   double **pk1;           // first Piola-Kirchhoff stress P, 9 per atom
   double *energy_density; // stored-energy density W(F) (plus stabilization)

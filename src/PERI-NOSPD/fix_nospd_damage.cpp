@@ -296,7 +296,7 @@ int FixNospdDamage::setmask()
 void FixNospdDamage::init()
 {
   const std::string cmd = std::string("fix ") + style;
-  pair = dynamic_cast<PairPeriNospd *>(force->pair_match("^peri/nospd", 0));
+  pair = PairPeriNospd::find(force);
   if (!pair)
     error->all(FLERR, "{} requires a peri/nospd pair style (it acts on that style's bond "
                "families)", cmd);

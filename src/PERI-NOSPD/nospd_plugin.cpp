@@ -80,6 +80,13 @@ extern "C" void lammpsplugin_init(void *lmp, void *handle, void *regfunc)
   plugin.creator.v1 = (lammpsplugin_factory1 *) &pair_nospd_creator;
   (*register_plugin)(&plugin, lmp);
 
+  // the same style under a name without "peri": LAMMPS's PERI_NEIGH fix
+  // (made by peri/lps, peri/pmb) finds its pair by matching "peri", which
+  // fails when a second "peri" style sits in the same pair hybrid
+  plugin.name = "nospd";
+  plugin.info = "PERI-NOSPD classical correspondence peridynamics (alias of peri/nospd)";
+  (*register_plugin)(&plugin, lmp);
+
   plugin.style = "pair";
   plugin.name = "peri/nospd/hs";
   plugin.info = "PERI-NOSPD horizon-stabilized (bond-associated) correspondence peridynamics";

@@ -241,6 +241,19 @@ void PairPeriNospd::coeff(int narg, char **arg)
   ensure_bonds_fix();
 }
 
+/* ----------------------------------------------------------------------
+   The correspondence pair style of this run, alone or inside pair hybrid,
+   under its name or its alias without "peri" (which keeps LAMMPS's own
+   PERI_NEIGH fix, matching "peri", unambiguous beside peri/lps).
+------------------------------------------------------------------------- */
+
+PairPeriNospd *PairPeriNospd::find(Force *force)
+{
+  for (const char *name : {"^peri/nospd", "^nospd"})
+    if (auto *p = dynamic_cast<PairPeriNospd *>(force->pair_match(name, 0))) return p;
+  return nullptr;
+}
+
 /* ---------------------------------------------------------------------- */
 
 void PairPeriNospd::read_material_file(const std::string &file, const std::string &name,
@@ -309,13 +322,19 @@ void PairPeriNospd::init_style()
   if (dim == 2 && domain->zperiodic == 0)
     error->all(FLERR, "{}: 2D runs need a periodic z", cmd);
 
+  // the types this style owns: under pair hybrid, only those given to it
+  active.assign(atom->ntypes + 1, 0);
+  for (int i = 1; i <= atom->ntypes; i++) active[i] = (setflag[i][i] && youngs[i] > 0.0);
+
   // volumes and densities: a zero one would make K or the mass vanish
   const int nlocal = atom->nlocal;
+  const int *type = atom->type;
   double *vfrac = atom->vfrac, *rmass = atom->rmass;
   int bad = -1;
   double badval = 0.0;
   const char *what = "";
   for (int i = 0; i < nlocal && bad < 0; i++) {
+    if (!active[type[i]]) continue;
     if (!(vfrac[i] > 0.0)) { bad = i; badval = vfrac[i]; what = "volume (vfrac)"; }
     else if (!(rmass[i] > 0.0)) { bad = i; badval = rmass[i]; what = "density (rmass)"; }
   }
@@ -331,30 +350,32 @@ void PairPeriNospd::init_style()
   // the horizon must reach beyond the nearest points; estimate their
   // spacing from the smallest volume
   double vmin = BIG, vmin_all;
-  for (int i = 0; i < nlocal; i++) vmin = MIN(vmin, vfrac[i]);
+  for (int i = 0; i < nlocal; i++)
+    if (active[type[i]]) vmin = MIN(vmin, vfrac[i]);
   MPI_Allreduce(&vmin, &vmin_all, 1, MPI_DOUBLE, MPI_MIN, world);
   if (vmin_all < BIG) {
     const double spacing = (dim == 3) ? cbrt(vmin_all) : sqrt(vmin_all / thickness);
     for (int i = 1; i <= atom->ntypes; i++)
-      if (cut[i][i] < 0.999 * spacing)
+      if (active[i] && cut[i][i] < 0.999 * spacing)
         error->all(FLERR, "{}: horizon {} of type {} is smaller than the point spacing {:.6g} "
                    "(from the smallest volume{}): families would be empty",
                    cmd, cut[i][i], i, spacing, dim == 2 ? " and the thickness" : "");
   }
   if (domain->lattice && domain->lattice->style != 0)
     for (int i = 1; i <= atom->ntypes; i++)
-      if (cut[i][i] < domain->lattice->xlattice)
+      if (active[i] && cut[i][i] < domain->lattice->xlattice)
         error->all(FLERR, "{}: horizon {} of type {} is smaller than the lattice spacing {}", cmd,
                    cut[i][i], i, domain->lattice->xlattice);
 
   // per-type constants of the law and of the stabilization
   for (int i = 1; i <= atom->ntypes; i++) {
+    stab_scalar[i] = 0.0;
+    if (!active[i]) continue;
     lame[i] = NOSPD::Lame::from_young(youngs[i], poisson[i]);
     const double c = NOSPD::micromodulus(dim, plane_mode, youngs[i], poisson[i], cut[i][i],
                                          thickness);
     if (stab == Stab::SILLING) stab_scalar[i] = stab_param * c / cut[i][i];
     else if (stab == Stab::HOURGLASS) stab_scalar[i] = stab_param * c;
-    else stab_scalar[i] = 0.0;
   }
   comm_tensors = (stab == Stab::WAN || stab == Stab::HOURGLASS) ? 2 : 1;
   comm_forward = 9 * comm_tensors + 1;
@@ -365,6 +386,7 @@ void PairPeriNospd::init_style()
   model.influence = influence;
   model.dim = dim;
   model.singular_tol = singular_tol;
+  model.active = active.data();
   fix_bonds->set_model(model);
   // no neighbor list: the families are fixed and live in the fix; the
   // ghost cutoff follows from the pair cutoff (horizon) plus the skin

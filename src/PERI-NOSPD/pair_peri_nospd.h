@@ -45,6 +45,8 @@ class PairPeriNospd : public Pair {
   double memory_usage() override;
   void *extract(const char *, int &) override;
 
+  static PairPeriNospd *find(class Force *);
+
   // read by computes and the damage fix
   NOSPD::Law law() const { return strain_law; }
   NOSPD::Plane plane() const { return plane_mode; }
@@ -71,6 +73,7 @@ class PairPeriNospd : public Pair {
   double *youngs, *poisson, *g0;
   std::vector<NOSPD::Lame> lame;
   std::vector<std::string> material_name;
+  std::vector<int> active;    // types this style owns (pair hybrid may give others away)
   double *stab_scalar;    // Silling alpha or hourglass c_hg, per type
   double **cut;
 
