@@ -28,7 +28,7 @@ using namespace FixConst;
 
 FixNospdBonds::FixNospdBonds(LAMMPS *lmp, int narg, char **arg) :
     FixPeriNeigh(lmp, narg, arg), nbond_atoms(0), bond_version(0), bond_first(nullptr), bond_j(nullptr),
-    bond_slot(nullptr), bond_w(nullptr), x0s(nullptr), kinv(nullptr), xi_moment(nullptr), u_moment(nullptr), singular(nullptr),
+    bond_slot(nullptr), bond_w(nullptr), x0s(nullptr), kinv(nullptr), xi_moment(nullptr), u_moment(nullptr), family_size(nullptr), singular(nullptr),
     defgrad(nullptr), pk1(nullptr), energy_density(nullptr), nsingular(0), nbonds_total(0),
     nbonds_broken(0), nmax_bonds(0), nmax_first(0), nmax_x0s(0), stale(nullptr),
     all_stale(true), x0s_store(nullptr)
@@ -44,6 +44,7 @@ FixNospdBonds::FixNospdBonds(LAMMPS *lmp, int narg, char **arg) :
   const int nlocal = atom->nlocal;
   for (int i = 0; i < nlocal; i++) {
     singular[i] = 0;
+    family_size[i] = 0;
     stale[i] = 1;
     for (int k = 0; k < 9; k++) kinv[i][k] = defgrad[i][k] = pk1[i][k] = 0.0;
     for (int k = 0; k < 3; k++) xi_moment[i][k] = u_moment[i][k] = 0.0;
@@ -63,6 +64,7 @@ FixNospdBonds::~FixNospdBonds()
   memory->destroy(kinv);
   memory->destroy(xi_moment);
   memory->destroy(u_moment);
+  memory->destroy(family_size);
   memory->destroy(singular);
   memory->destroy(stale);
   memory->destroy(defgrad);
@@ -106,7 +108,7 @@ void FixNospdBonds::setup_post_neighbor()
     first = 0;
   }
   // also after a restart, where build_families() does not run
-  maxexchange = maxpartner + 20;
+  maxexchange = maxpartner + 21;
   build_bond_arrays();
   all_stale = true;    // after a restart or a change of settings
   update_shape_tensors();
@@ -240,7 +242,7 @@ void FixNospdBonds::build_families()
   grow_arrays(atom->nmax);
 
   for (int i = 0; i < nlocal; i++) {
-    npartner[i] = (int) fam[i].size();
+    npartner[i] = family_size[i] = (int) fam[i].size();
     vinter[i] = 0.0;
     wvolume[i] = 0.0;
     for (int n = 0; n < npartner[i]; n++) {
@@ -248,7 +250,7 @@ void FixNospdBonds::build_families()
       vinter[i] += fam[i][n].vol;    // read by compute damage/atom
     }
   }
-  maxexchange = maxpartner + 20;
+  maxexchange = maxpartner + 21;
 }
 
 /* ----------------------------------------------------------------------
@@ -388,8 +390,10 @@ void FixNospdBonds::update_shape_tensors()
 void FixNospdBonds::count_bonds()
 {
   const int nlocal = atom->nlocal;
+  // broken = original family sizes less intact bonds: migration and
+  // restarts drop broken partner slots, the original size travels along
   bigint slots = 0, intact = bond_first[nlocal];
-  for (int i = 0; i < nlocal; i++) slots += npartner[i];
+  for (int i = 0; i < nlocal; i++) slots += family_size[i];
   bigint loc[2] = {intact, slots - intact}, all[2];
   MPI_Allreduce(loc, all, 2, MPI_LMP_BIGINT, MPI_SUM, world);
   nbonds_total = all[0];
@@ -504,7 +508,7 @@ double FixNospdBonds::memory_usage()
   const double nmax = atom->nmax;
   double bytes = nmax * (sizeof(int) + 2 * sizeof(double));
   bytes += nmax * maxpartner * sizeof(tagint);
-  bytes += nmax * (3 * 9 + 2 * 3 + 1) * sizeof(double) + 2 * nmax * sizeof(int);
+  bytes += nmax * (3 * 9 + 2 * 3 + 1) * sizeof(double) + 3 * nmax * sizeof(int);
   bytes += (double) nmax_first * sizeof(int);
   bytes += (double) nmax_bonds * (2 * sizeof(int) + sizeof(double));
   bytes += (double) nmax_x0s * 3 * sizeof(double);
@@ -524,6 +528,7 @@ void FixNospdBonds::grow_arrays(int nmax)
   memory->grow(kinv, nmax, 9, "nospd/bonds:kinv");
   memory->grow(xi_moment, nmax, 3, "nospd/bonds:xi_moment");
   memory->grow(u_moment, nmax, 3, "nospd/bonds:u_moment");
+  memory->grow(family_size, nmax, "nospd/bonds:family_size");
   memory->grow(singular, nmax, "nospd/bonds:singular");
   memory->grow(stale, nmax, "nospd/bonds:stale");
   memory->grow(defgrad, nmax, 9, "nospd/bonds:defgrad");
@@ -548,6 +553,7 @@ void FixNospdBonds::copy_arrays(int i, int j, int /*delflag*/)
     xi_moment[j][k] = xi_moment[i][k];
     u_moment[j][k] = u_moment[i][k];
   }
+  family_size[j] = family_size[i];
   singular[j] = singular[i];
   stale[j] = stale[i];
   energy_density[j] = energy_density[i];
@@ -566,6 +572,7 @@ int FixNospdBonds::pack_exchange(int i, double *buf)
     if (partner[i][n]) buf[m++] = partner[i][n];
   buf[0] = m - 1;
   buf[m++] = vinter[i];
+  buf[m++] = family_size[i];
   buf[m++] = singular[i];
   buf[m++] = stale[i];
   for (int k = 0; k < 9; k++) buf[m++] = kinv[i][k];
@@ -582,6 +589,7 @@ int FixNospdBonds::unpack_exchange(int nlocal, double *buf)
   for (int n = 0; n < npartner[nlocal]; n++) partner[nlocal][n] = static_cast<tagint>(buf[m++]);
   vinter[nlocal] = buf[m++];
   wvolume[nlocal] = 0.0;
+  family_size[nlocal] = static_cast<int>(buf[m++]);
   singular[nlocal] = static_cast<int>(buf[m++]);
   stale[nlocal] = static_cast<int>(buf[m++]);
   for (int k = 0; k < 9; k++) kinv[nlocal][k] = buf[m++];
@@ -601,6 +609,7 @@ int FixNospdBonds::pack_restart(int i, double *buf)
     if (partner[i][n]) buf[m++] = partner[i][n];
   buf[1] = m - 2;
   buf[m++] = vinter[i];
+  buf[m++] = family_size[i];
   buf[0] = m;    // first value: size of this fix's record, as Atom expects
   return m;
 }
@@ -617,6 +626,7 @@ void FixNospdBonds::unpack_restart(int nlocal, int nth)
   for (int n = 0; n < npartner[nlocal]; n++)
     partner[nlocal][n] = static_cast<tagint>(extra[nlocal][m++]);
   vinter[nlocal] = extra[nlocal][m++];
+  family_size[nlocal] = static_cast<int>(extra[nlocal][m++]);
   wvolume[nlocal] = 0.0;
   singular[nlocal] = 0;
   stale[nlocal] = 1;
@@ -626,7 +636,7 @@ void FixNospdBonds::unpack_restart(int nlocal, int nth)
 
 int FixNospdBonds::maxsize_restart()
 {
-  return maxpartner + 3;
+  return maxpartner + 4;
 }
 
 /* ---------------------------------------------------------------------- */
@@ -636,5 +646,5 @@ int FixNospdBonds::size_restart(int nlocal)
   int n = 0;
   for (int k = 0; k < npartner[nlocal]; k++)
     if (partner[nlocal][k]) n++;
-  return n + 3;
+  return n + 4;
 }

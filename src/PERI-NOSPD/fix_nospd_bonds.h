@@ -82,6 +82,7 @@ class FixNospdBonds : public FixPeriNeigh {
   double **kinv;          // K^-1, 9 per atom, row-major; zero if singular
   double **xi_moment;     // sum_j w xi (reference; zero inside a regular grid)
   double **u_moment;      // sum_j w U, filled by pass 1
+  int *family_size;       // bonds at the first build, broken ones included
   int *singular;          // 1 if K is singular: no correspondence force;
                           // 2 if the atom's type is not the style's (pair hybrid)
   double **defgrad;       // F, 9 per atom
