@@ -92,6 +92,9 @@ extern "C" void lammpsplugin_init(void *lmp, void *handle, void *regfunc)
   plugin.info = "PERI-NOSPD horizon-stabilized (bond-associated) correspondence peridynamics";
   plugin.creator.v1 = (lammpsplugin_factory1 *) &pair_nospd_hs_creator;
   (*register_plugin)(&plugin, lmp);
+  plugin.name = "nospd/hs";
+  plugin.info = "PERI-NOSPD horizon-stabilized correspondence (alias of peri/nospd/hs)";
+  (*register_plugin)(&plugin, lmp);
 
   plugin.style = "fix";
   plugin.name = "PERI_NEIGH/NOSPD";

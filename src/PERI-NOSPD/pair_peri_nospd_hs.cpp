@@ -65,6 +65,15 @@ static constexpr int PROGRAM_USERS = 64;
 #endif
 
 namespace {
+
+// FNV-1a over a pattern's quantized offsets
+uint64_t key_hash(const std::vector<int64_t> &key)
+{
+  uint64_t h = 1469598103934665603ULL;
+  for (int64_t v : key) h = (h ^ (uint64_t) v) * 1099511628211ULL;
+  return h;
+}
+
 template <int DIM, int L>
 NOSPD_KERNEL_CLONES bool evaluate(const BondPattern &p, HSForm form, NOSPD::Law law,
                                   NOSPD::Plane plane, const NOSPD::LaneInput *in, bool energy,
@@ -390,12 +399,8 @@ void PairPeriNospdHS::map_families()
     kept.push_back(std::move(patterns[k]));
   }
   patterns.swap(kept);
-  for (size_t k = 0; k < patterns.size(); k++) {
-    const BondPattern &p = patterns[k];
-    uint64_t h = 1469598103934665603ULL;
-    for (int64_t v : p.key) h = (h ^ (uint64_t) v) * 1099511628211ULL;
-    pattern_lookup.emplace(h, (int) k);
-  }
+  for (size_t k = 0; k < patterns.size(); k++)
+    pattern_lookup.emplace(key_hash(patterns[k].key), (int) k);
   for (int i = 0; i < nlocal; i++) npat[i] = renum[npat[i]];
 
   state_pattern.swap(npat);
@@ -427,10 +432,12 @@ void PairPeriNospdHS::map_families()
       tbuf[l].assign(3 * nbig, 0.0);
       jbuf[l].assign(nbig, 0);
     }
-  for (size_t k = 0; k < patterns.size(); k++)
-    if (users[k] >= PROGRAM_USERS && !patterns[renum[k]].program.ready())
-      patterns[renum[k]].program = NOSPD::build_sum_program(NOSPD::member_sets(patterns[renum[k]]),
-                                                            patterns[renum[k]].n);
+  // sum programs for the patterns many families share
+  for (size_t k = 0; k < users.size(); k++) {
+    if (users[k] < PROGRAM_USERS) continue;
+    BondPattern &p = patterns[renum[k]];
+    if (!p.program.ready()) p.program = NOSPD::build_sum_program(NOSPD::member_sets(p), p.n);
+  }
 
   // bond families that fall back to the family's F
   bigint nsing = 0, nfall = 0;
@@ -488,8 +495,7 @@ int PairPeriNospdHS::match_pattern(int i, std::vector<uint16_t> &perm)
   std::vector<int64_t> key(3 * n);
   for (int l = 0; l < n; l++)
     for (int c = 0; c < 3; c++) key[3 * l + c] = items[l].k[2 - c];    // x, y, z
-  uint64_t h = 1469598103934665603ULL;
-  for (int64_t v : key) h = (h ^ (uint64_t) v) * 1099511628211ULL;
+  const uint64_t h = key_hash(key);
 
   int found = -1;
   auto range = pattern_lookup.equal_range(h);
