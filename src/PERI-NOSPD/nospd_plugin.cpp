@@ -10,6 +10,7 @@
 #include "version.h"
 
 #include "compute_nospd_atom.h"
+#include "compute_nospd_bond_local.h"
 #include "fix_nospd_bonds.h"
 #include "fix_nospd_damage.h"
 #include "pair_peri_nospd.h"
@@ -56,6 +57,12 @@ Fix *fix_damage_creator(LAMMPS *lmp, int argc, char **argv)
 {
   version_ok(lmp, "fix nospd/damage");
   return new FixNospdDamage(lmp, argc, argv);
+}
+
+Compute *compute_bond_local_creator(LAMMPS *lmp, int argc, char **argv)
+{
+  version_ok(lmp, "compute nospd/bond/local");
+  return new ComputeNospdBondLocal(lmp, argc, argv);
 }
 
 Compute *compute_atom_creator(LAMMPS *lmp, int argc, char **argv)
@@ -106,6 +113,12 @@ extern "C" void lammpsplugin_init(void *lmp, void *handle, void *regfunc)
   plugin.name = "nospd/atom";
   plugin.info = "PERI-NOSPD per-atom F, strain, stress, von Mises, energy, zero-energy-mode indicator";
   plugin.creator.v2 = (lammpsplugin_factory2 *) &compute_atom_creator;
+  (*register_plugin)(&plugin, lmp);
+
+  plugin.style = "compute";
+  plugin.name = "nospd/bond/local";
+  plugin.info = "PERI-NOSPD per-bond output: ids, stretch, (bond-associated) F and stress";
+  plugin.creator.v2 = (lammpsplugin_factory2 *) &compute_bond_local_creator;
   (*register_plugin)(&plugin, lmp);
 
   plugin.style = "fix";

@@ -1,0 +1,158 @@
+/* ----------------------------------------------------------------------
+   PERI-NOSPD: correspondence peridynamics for LAMMPS.
+------------------------------------------------------------------------- */
+
+#include "compute_nospd_bond_local.h"
+
+#include "atom.h"
+#include "error.h"
+#include "fix_nospd_bonds.h"
+#include "force.h"
+#include "memory.h"
+#include "pair_peri_nospd.h"
+#include "pair_peri_nospd_hs.h"
+#include "update.h"
+
+#include "nospd_constitutive.h"
+
+#include <cmath>
+
+using namespace LAMMPS_NS;
+using NOSPD::Mat3;
+
+static int ncolumns(int q)
+{
+  switch (q) {
+    case 0: return 2;    // id of i and j
+    case 2: return 9;    // F
+    case 3: return 6;    // Cauchy stress
+    default: return 1;
+  }
+}
+
+/* ---------------------------------------------------------------------- */
+
+ComputeNospdBondLocal::ComputeNospdBondLocal(LAMMPS *lmp, int narg, char **arg) :
+    Compute(lmp, narg, arg), nmax(0), out(nullptr), pair(nullptr), pair_hs(nullptr)
+{
+  for (int iarg = 3; iarg < narg; iarg++) {
+    const std::string k = arg[iarg];
+    if (k == "id") quantities.push_back(ID);
+    else if (k == "stretch") quantities.push_back(STRETCH);
+    else if (k == "F") quantities.push_back(DEFGRAD);
+    else if (k == "stress") quantities.push_back(STRESS);
+    else if (k == "own") quantities.push_back(OWN);
+    else
+      error->all(FLERR, "compute {}: unknown quantity '{}' (id, stretch, F, stress, own)", style, k);
+  }
+  if (quantities.empty()) quantities = {ID, STRETCH, DEFGRAD, STRESS};
+  int n = 0;
+  for (int q : quantities) n += ncolumns(q);
+  local_flag = 1;
+  size_local_cols = n;
+  size_local_rows = 0;
+}
+
+/* ---------------------------------------------------------------------- */
+
+ComputeNospdBondLocal::~ComputeNospdBondLocal()
+{
+  memory->destroy(out);
+}
+
+/* ---------------------------------------------------------------------- */
+
+void ComputeNospdBondLocal::init()
+{
+  pair = PairPeriNospd::find(force);
+  if (!pair) error->all(FLERR, "compute {} requires a peri/nospd or peri/nospd/hs pair style", style);
+  pair_hs = dynamic_cast<PairPeriNospdHS *>(pair);
+}
+
+/* ---------------------------------------------------------------------- */
+
+int ComputeNospdBondLocal::count_rows()
+{
+  FixNospdBonds *bonds = pair->bonds();
+  if (!bonds || !bonds->bond_first || bonds->nbond_atoms != atom->nlocal) return 0;
+  int n = 0;
+  for (int i = 0; i < atom->nlocal; i++)
+    if (atom->mask[i] & groupbit) n += bonds->bond_first[i + 1] - bonds->bond_first[i];
+  return n;
+}
+
+/* ---------------------------------------------------------------------- */
+
+void ComputeNospdBondLocal::compute_local()
+{
+  invoked_local = update->ntimestep;
+  const int nrows = count_rows();
+  if (nrows > nmax) {
+    memory->destroy(out);
+    nmax = nrows;
+    memory->create(out, nmax, size_local_cols, "nospd/bond/local:out");
+  }
+  size_local_rows = nrows;
+  array_local = out;
+  if (!nrows) return;
+
+  FixNospdBonds *bonds = pair->bonds();
+  double **x = atom->x;
+  double **x0s = bonds->x0s;
+  const int *type = atom->type;
+  int row = 0;
+  for (int i = 0; i < atom->nlocal; i++) {
+    if (!(atom->mask[i] & groupbit)) continue;
+    for (int b = bonds->bond_first[i]; b < bonds->bond_first[i + 1]; b++) {
+      const int j = bonds->bond_j[b];
+      double Fb[9];
+      int own = 0;
+      if (pair_hs) own = pair_hs->bond_defgrad(i, b, Fb);
+      if (!pair_hs || own < 0) {
+        for (int k = 0; k < 9; k++) Fb[k] = bonds->defgrad[i][k];
+        own = 0;
+      }
+      double *r = out[row++];
+      int c = 0;
+      for (int q : quantities) {
+        switch (q) {
+          case ID:
+            r[c++] = atom->tag[i];
+            r[c++] = atom->tag[j];
+            break;
+          case STRETCH: {
+            double l0 = 0.0, l = 0.0;
+            for (int k = 0; k < 3; k++) {
+              l0 += (x0s[j][k] - x0s[i][k]) * (x0s[j][k] - x0s[i][k]);
+              l += (x[j][k] - x[i][k]) * (x[j][k] - x[i][k]);
+            }
+            r[c++] = std::sqrt(l / l0) - 1.0;
+            break;
+          }
+          case DEFGRAD:
+            for (int k = 0; k < 9; k++) r[c++] = Fb[k];
+            break;
+          case STRESS: {
+            Mat3 F = NOSPD::load(Fb), P;
+            double W;
+            Mat3 s = Mat3::Zero();
+            if (bonds->singular[i] == 0 &&
+                NOSPD::first_piola(pair->law(), pair->plane(), pair->material(type[i]), F, P, W))
+              s = NOSPD::cauchy_stress(pair->law(), F, P);
+            r[c++] = s(0, 0); r[c++] = s(1, 1); r[c++] = s(2, 2);
+            r[c++] = s(0, 1); r[c++] = s(0, 2); r[c++] = s(1, 2);
+            break;
+          }
+          case OWN: r[c++] = own; break;
+        }
+      }
+    }
+  }
+}
+
+/* ---------------------------------------------------------------------- */
+
+double ComputeNospdBondLocal::memory_usage()
+{
+  return (double) nmax * size_local_cols * sizeof(double);
+}
