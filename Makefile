@@ -2,14 +2,14 @@
 #   make run    provision (Debian packages, LAMMPS from Debian's source
 #               package, the plugin) and run the flagship example
 #   make test   provision and run the whole test suite through ctest
-# Other targets: make lammps | plugin | bench | doc | clean
+# Other targets: make lammps | plugin | bench | chart | doc | clean
 SHELL := /bin/bash
 JOBS ?= $(shell nproc)
 BUILD ?= build
 LAMMPS_SRC = $(shell bash cmake/lammps.sh print-src)
 LAMMPS_BLD = $(shell bash cmake/lammps.sh print-dir)
 
-.PHONY: all lammps plugin run test bench doc clean
+.PHONY: all lammps plugin run test bench chart doc clean
 
 all: plugin
 
@@ -30,6 +30,10 @@ test: plugin
 
 bench: plugin
 	bash bench/run.sh $(LAMMPS_BLD)/lmp $(BUILD)/plugin
+
+# speed against accuracy and the stability study (bench/chart, ~10-20 min)
+chart: plugin
+	LMP=$(LAMMPS_BLD)/lmp PLUGIN_DIR=$(BUILD)/plugin bash bench/chart/run_all.sh
 
 doc:
 	bash cmake/lammps.sh deps
