@@ -31,7 +31,7 @@ FixNospdBonds::FixNospdBonds(LAMMPS *lmp, int narg, char **arg) :
     bond_slot(nullptr), bond_w(nullptr), x0s(nullptr), kinv(nullptr), xi_moment(nullptr), u_moment(nullptr), family_size(nullptr), singular(nullptr),
     defgrad(nullptr), pk1(nullptr), energy_density(nullptr), nsingular(0), nbonds_total(0),
     nbonds_broken(0), nmax_bonds(0), nmax_first(0), nmax_x0s(0), stale(nullptr),
-    all_stale(true), x0s_store(nullptr)
+    all_stale(true), x0s_store(nullptr), ref_box_set(0)
 {
   if (narg != 3) error->all(FLERR, "Illegal fix {} command: takes no arguments", style);
   vector_flag = 1;
@@ -39,6 +39,7 @@ FixNospdBonds::FixNospdBonds(LAMMPS *lmp, int narg, char **arg) :
   global_freq = 1;
   extvector = 0;
   maxexchange_dynamic = 1;
+  ref_prd[0] = ref_prd[1] = ref_prd[2] = 0.0;
 
   FixNospdBonds::grow_arrays(atom->nmax);
   const int nlocal = atom->nlocal;
@@ -143,8 +144,11 @@ void FixNospdBonds::post_neighbor()
 /* ----------------------------------------------------------------------
    x0 in the periodic image of x, for owned and ghost atoms.  Ghosts carry
    their owner's x0 unshifted, so x - x0 = u + (image shift); the minimum
-   image of that difference is the displacement u, valid while |u| stays
-   below half a periodic box length.
+   image of that difference is the displacement u (valid while |u| stays
+   below half a box length), and the rest counts whole box lengths.  The
+   image of the reference is shifted by the REFERENCE box length: a box
+   deformed since the families were built (fix deform, change_box) must not
+   stretch the reference bonds that cross its boundary.
 ------------------------------------------------------------------------- */
 
 void FixNospdBonds::update_x0s()
@@ -154,6 +158,10 @@ void FixNospdBonds::update_x0s()
     x0s = atom->x0;
     return;
   }
+  if (!ref_box_set) {
+    for (int k = 0; k < 3; k++) ref_prd[k] = domain->prd[k];
+    ref_box_set = 1;
+  }
   if (nall > nmax_x0s) {
     nmax_x0s = atom->nmax;
     memory->destroy(x0s_store);
@@ -161,12 +169,49 @@ void FixNospdBonds::update_x0s()
   }
   double **x = atom->x;
   double **x0 = atom->x0;
+  const double *prd = domain->prd;
+  const bool ortho = !domain->triclinic;
   for (int i = 0; i < nall; i++) {
-    double d[3] = {x[i][0] - x0[i][0], x[i][1] - x0[i][1], x[i][2] - x0[i][2]};
+    const double d0[3] = {x[i][0] - x0[i][0], x[i][1] - x0[i][1], x[i][2] - x0[i][2]};
+    double d[3] = {d0[0], d0[1], d0[2]};
     domain->minimum_image(FLERR, d);
-    for (int k = 0; k < 3; k++) x0s_store[i][k] = x[i][k] - d[k];
+    for (int k = 0; k < 3; k++) {
+      const double shift = d0[k] - d[k];    // whole current box lengths
+      // triclinic boxes: images follow the current box (see the doc page)
+      x0s_store[i][k] = (ortho && prd[k] > 0.0)
+          ? x0[i][k] + std::round(shift / prd[k]) * ref_prd[k]
+          : x[i][k] - d[k];
+    }
   }
   x0s = x0s_store;
+}
+
+/* ----------------------------------------------------------------------
+   global restart data: FixPeriNeigh's two values and the reference box
+------------------------------------------------------------------------- */
+
+void FixNospdBonds::write_restart(FILE *fp)
+{
+  double list[6] = {(double) first, (double) maxpartner, (double) ref_box_set,
+                    ref_prd[0], ref_prd[1], ref_prd[2]};
+  if (comm->me == 0) {
+    int size = 6 * sizeof(double);
+    fwrite(&size, sizeof(int), 1, fp);
+    fwrite(list, sizeof(double), 6, fp);
+  }
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixNospdBonds::restart(char *buf)
+{
+  auto *list = (double *) buf;
+  first = static_cast<int>(list[0]);
+  maxpartner = static_cast<int>(list[1]);
+  ref_box_set = static_cast<int>(list[2]);
+  for (int k = 0; k < 3; k++) ref_prd[k] = list[3 + k];
+  // partner arrays are 2D: size them now, before the per-atom data arrive
+  grow_arrays(atom->nmax);
 }
 
 /* ---------------------------------------------------------------------- */

@@ -53,6 +53,8 @@ class FixNospdBonds : public FixPeriNeigh {
   void copy_arrays(int, int, int) override;
   int pack_exchange(int, double *) override;
   int unpack_exchange(int, double *) override;
+  void write_restart(FILE *) override;
+  void restart(char *) override;
   int pack_restart(int, double *) override;
   void unpack_restart(int, int) override;
   int size_restart(int) override;
@@ -102,6 +104,8 @@ class FixNospdBonds : public FixPeriNeigh {
   int *stale;               // [nmax] K^-1 to recompute
   bool all_stale;
   double **x0s_store;    // x0s when the box is periodic (else x0s = atom->x0)
+  int ref_box_set;       // ref_prd holds the box of the first build
+  double ref_prd[3];     // periodic lengths of the reference configuration
 
   void build_families();
   void update_x0s();
