@@ -12,7 +12,7 @@ CSV=$OUT/throughput.csv
 echo "model,settings,points,steps,best_loop_s,point_steps_per_s,ratio_to_lps,state_bytes_per_point" > "$CSV"
 declare -a MODELS=("pmb|" "lps|" "nospd|stabilization none" "nospd|stabilization silling 0.5"
   "nospd|stabilization hourglass 0.2" "nospd|stabilization wan" "nospd|strain finite"
-  "nospd|strain neohookean")
+  "nospd|strain neohookean" "hs|form II" "hs|form I")
 lps_rate=""
 for m in "${MODELS[@]}"; do
   style=${m%%|*}; settings=${m#*|}
@@ -30,7 +30,8 @@ for m in "${MODELS[@]}"; do
   rate=$(awk -v p="$points" -v s="$STEPS" -v t="$best" 'BEGIN{printf "%.4g", p*s/t}')
   [ "$style" = lps ] && lps_rate=$rate
   ratio=$(awk -v a="$rate" -v b="${lps_rate:-0}" 'BEGIN{ if (b>0) printf "%.3g", a/b; else print "" }')
-  echo "peri/$style,$settings,$points,$STEPS,$best,$rate,$ratio,${mem:-}" >> "$CSV"
+  echo "peri/${style},$settings,$points,$STEPS,$best,$rate,$ratio,${mem:-}" >> "$CSV"
+  [ "$style" = hs ] && style=nospd/hs
   printf "%-10s %-34s %9s point-steps/s  x%-6s vs peri/lps  %s B/point\n" "peri/$style" "$settings" "$rate" "$ratio" "${mem:-n/a}"
 done
 rm -f "$OUT/screen.txt"
