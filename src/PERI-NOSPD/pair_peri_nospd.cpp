@@ -547,7 +547,6 @@ template <int STAB, int VIRIAL> void PairPeriNospd::force_pass(int /*eflag*/)
   const double *_noalias const bf = bmat[0];
   const double *_noalias const tf = tmat[0];
   const double *_noalias const sa = stab_atom;
-  double **f = atom->f;
   const int nlocal = atom->nlocal;
   const int *_noalias const bfirst = fix_bonds->bond_first;
   const int *_noalias const bj = fix_bonds->bond_j;
@@ -651,16 +650,7 @@ template <int STAB, int VIRIAL> void PairPeriNospd::force_pass(int /*eflag*/)
         fz += Ti[6] * u[0] + Ti[7] * u[1] + Ti[8] * u[2];
       }
     }
-    f[i][0] += fx;
-    f[i][1] += fy;
-    f[i][2] += fz;
-
-    if (VIRIAL) {
-      if (vflag_global)
-        for (int k = 0; k < 6; k++) virial[k] += v[k];
-      if (vflag_atom)
-        for (int k = 0; k < 6; k++) vatom[i][k] += v[k];
-    }
+    add_force_virial(i, fx, fy, fz, v, VIRIAL);
   }
 }
 

@@ -11,6 +11,7 @@ PairStyle(peri/nospd,PairPeriNospd);
 #ifndef LMP_PAIR_PERI_NOSPD_H
 #define LMP_PAIR_PERI_NOSPD_H
 
+#include "atom.h"
 #include "pair.h"
 
 #include "nospd_stabilization.h"
@@ -90,6 +91,20 @@ class PairPeriNospd : public Pair {
   void constitutive_pass(int eflag);
   template <int STAB, int VIRIAL> void force_pass(int eflag);
   void tally_energy(int i, double e);
+  // the last step of a force pass for owned atom i: its force and the
+  // virial of its bonds (v = xx yy zz xy xz yz)
+  void add_force_virial(int i, double fx, double fy, double fz, const double *v, bool virial)
+  {
+    double **f = atom->f;
+    f[i][0] += fx;
+    f[i][1] += fy;
+    f[i][2] += fz;
+    if (!virial) return;
+    if (vflag_global)
+      for (int k = 0; k < 6; k++) this->virial[k] += v[k];
+    if (vflag_atom)
+      for (int k = 0; k < 6; k++) vatom[i][k] += v[k];
+  }
   double stabilization_energy(int i) const;
   void read_material_file(const std::string &file, const std::string &name, double &E,
                           double &nu, double &G0);

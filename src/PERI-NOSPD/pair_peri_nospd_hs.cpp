@@ -281,7 +281,6 @@ template <int VIRIAL>
 void PairPeriNospdHS::apply_family(int i, const BondPattern &p, int lane,
                                    const NOSPD::StateOutput &out, int eflag)
 {
-  double **f = atom->f;
   double **x = atom->x;
   const double *const vfrac = atom->vfrac;
   const double *const inv_vol = inv_vfrac.data();
@@ -330,15 +329,7 @@ void PairPeriNospdHS::apply_family(int i, const BondPattern &p, int lane,
         for (int k = 0; k < 6; k++) vg[6 * j + k] += r * vij[k];
     }
   }
-  f[i][0] += fx;
-  f[i][1] += fy;
-  f[i][2] += fz;
-  if (VIRIAL) {
-    if (vflag_global)
-      for (int k = 0; k < 6; k++) virial[k] += v[k];
-    if (vflag_atom)
-      for (int k = 0; k < 6; k++) vatom[i][k] += v[k];
-  }
+  add_force_virial(i, fx, fy, fz, v, VIRIAL);
 }
 
 /* ----------------------------------------------------------------------

@@ -103,6 +103,18 @@ class Physics : public ::testing::TestWithParam<Variant> {
     return d;
   }
 
+  // y = F (X - c) + c about the block's centre, then a force evaluation
+  void deform_affine(const Mat3 &F)
+  {
+    const auto c = center();
+    displace([&](const double *X) {
+      const NOSPD::Vec3 d(X[0] - c[0], X[1] - c[1], X[2] - c[2]);
+      const NOSPD::Vec3 u = (F - Mat3::Identity()) * d;
+      return std::array<double, 3>{u[0], u[1], u[2]};
+    });
+    cmd(lmp, "run 0");
+  }
+
   std::array<double, 3> center() const
   {
     const double c = 0.5 * (blk.n - 1) * blk.dx;
@@ -119,13 +131,7 @@ TEST_P(Physics, PatchTest)
   build();
   std::mt19937 rng(7);
   const Mat3 F0 = random_F(rng, 0.02);
-  const auto c = center();
-  displace([&](const double *X) {
-    NOSPD::Vec3 d(X[0] - c[0], X[1] - c[1], X[2] - c[2]);
-    NOSPD::Vec3 u = (F0 - Mat3::Identity()) * d;
-    return std::array<double, 3>{u[0], u[1], u[2]};
-  });
-  cmd(lmp, "run 0");
+  deform_affine(F0);
   auto *fb = bonds();
   ASSERT_EQ(fb->nsingular, 0);
   Mat3 P0;
@@ -158,13 +164,7 @@ TEST_P(Physics, BulkStress)
   build();
   std::mt19937 rng(11);
   const Mat3 F0 = random_F(rng, 0.01);
-  const auto c = center();
-  displace([&](const double *X) {
-    NOSPD::Vec3 d(X[0] - c[0], X[1] - c[1], X[2] - c[2]);
-    NOSPD::Vec3 u = (F0 - Mat3::Identity()) * d;
-    return std::array<double, 3>{u[0], u[1], u[2]};
-  });
-  cmd(lmp, "run 0");
+  deform_affine(F0);
   Mat3 P0;
   double W0;
   Mat3 Fp = F0;
@@ -276,13 +276,7 @@ TEST_P(Physics, Objectivity)
   } else {
     Q = Eigen::AngleAxisd(ang, NOSPD::Vec3(1, 2, 3).normalized()).toRotationMatrix();
   }
-  const auto c = center();
-  displace([&](const double *X) {
-    NOSPD::Vec3 d(X[0] - c[0], X[1] - c[1], X[2] - c[2]);
-    NOSPD::Vec3 u = (Q - Mat3::Identity()) * d;
-    return std::array<double, 3>{u[0], u[1], u[2]};
-  });
-  cmd(lmp, "run 0");
+  deform_affine(Q);
   double fmax = 0.0;
   for (int i = 0; i < lmp->atom->nlocal; i++)
     for (int k = 0; k < 3; k++) fmax = std::max(fmax, std::abs(lmp->atom->f[i][k]));
