@@ -16,10 +16,10 @@ all: plugin
 lammps:
 	bash cmake/lammps.sh all
 
-$(BUILD)/CMakeCache.txt: | lammps
-	cmake -S . -B $(BUILD) -DLAMMPS_SOURCE_DIR=$(LAMMPS_SRC)/src -DLAMMPS_BINARY_DIR=$(LAMMPS_BLD)
-
-plugin: lammps $(BUILD)/CMakeCache.txt
+# configured every time (a second when nothing changed), so that a build
+# folder made against an older LAMMPS build follows the current one
+plugin: lammps
+	cmake -S . -B $(BUILD) -DLAMMPS_SOURCE_DIR=$(LAMMPS_SRC)/src -DLAMMPS_BINARY_DIR=$(LAMMPS_BLD) > /dev/null
 	cmake --build $(BUILD) -j $(JOBS)
 
 run: plugin

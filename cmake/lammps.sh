@@ -37,8 +37,9 @@ DEB_PACKAGES=(build-essential cmake pkg-config libopenmpi-dev openmpi-bin
 # LAMMPS packages. PERI (atom_style peri, FixPeriNeigh, the styles we compare
 # against), PLUGIN (to load us), OPENMP, KSPACE (requested build standard);
 # RIGID (fix rigid projectiles in the coupling examples), GRANULAR
-# (granular particles hitting a NOSPD body via pair hybrid/overlay).
-LMP_PACKAGES=(PERI PLUGIN OPENMP KSPACE RIGID GRANULAR)
+# (granular particles hitting a NOSPD body via pair hybrid/overlay),
+# GRAPHICS (dump image: the PNG pictures of the fracture examples).
+LMP_PACKAGES=(PERI PLUGIN OPENMP KSPACE RIGID GRANULAR GRAPHICS)
 
 die() { echo "ERROR (cmake/lammps.sh): $*" >&2; exit 1; }
 note() { echo "-- [peri-nospd] $*" >&2; }

@@ -5,7 +5,7 @@ LAMMPS custom dumps (columns x y and a damage column; see plot_damage.py).
 usage: crack_tip.py 'dump.crack_branching.*' --timestep SECONDS
           [--threshold 0.35] [--xstart MM] [--xmin MM --xmax MM]
           [--cr M/S] [--E PA --nu NU --rho KG/M3 --plane stress|strain]
-          [--spacing MM] [--out tip.txt] [--plot tip.png]
+          [--spacing MM] [--out tip.txt] [--plot tip.png] [--check LO,HI[,branch]]
 
 Crack points are the points with damage >= threshold.  The tip at each
 dump is the crack point of largest x (the leading branch); its speed is the
@@ -88,6 +88,9 @@ def main():
     ap.add_argument("--plane", default="stress")
     ap.add_argument("--out", default="")
     ap.add_argument("--plot", default="", help="draw the tip path length against time")
+    ap.add_argument("--check", default="", metavar="LO,HI[,branch]",
+                    help="exit 1 unless the mean tip speed lies in LO..HI c_R (and, with "
+                         "',branch', the crack branches)")
     a = ap.parse_args()
 
     files = sorted(glob.glob(a.pattern), key=lambda p: int(re.findall(r"\d+", p)[-1]))
@@ -101,7 +104,9 @@ def main():
         x, y = x * 1e3, y * 1e3
         crack = d >= a.threshold
         xc, yc = x[crack], y[crack]
-        tip = (xc.max(), yc[np.argmax(xc)]) if crack.any() else (np.nan, np.nan)
+        # no crack point yet (a notch made by deleting points): the tip
+        # is still at the notch end, x = xstart
+        tip = (xc.max(), yc[np.argmax(xc)]) if crack.any() else (a.xstart, np.nan)
         steps.append(step)
         tips.append(tip)
         last = (x, y, d)
@@ -119,6 +124,8 @@ def main():
     t = np.array(steps, dtype=float) * a.timestep
     tx = np.array([p[0] for p in tips])
     ty = np.array([p[1] for p in tips])
+    if np.isfinite(ty).any():    # no crack yet: the tip's y is the first crack point's
+        ty[~np.isfinite(ty)] = ty[np.isfinite(ty)][0]
     moving = np.where(tx > a.xstart + 2 * a.spacing)[0]
     if len(moving) == 0:
         print(f"crack did not grow beyond x = {a.xstart} mm (Rayleigh speed {cr:.0f} m/s)")
@@ -163,6 +170,14 @@ def main():
     if a.out:
         np.savetxt(a.out, np.column_stack([t * 1e6, tx, ty, s]), fmt="%.6g",
                    header="t_us tip_x_mm tip_y_mm path_mm")
+    if a.check:
+        parts = a.check.split(",")
+        lo, hi = float(parts[0]), float(parts[1])
+        ok = lo <= vmean / cr <= hi
+        if "branch" in parts[2:]:
+            ok = ok and branch_x is not None
+        print(f"check {a.check}: {'pass' if ok else 'FAIL'}")
+        return 0 if ok else 1
     return 0
 
 

@@ -233,34 +233,8 @@ TEST_P(Physics, EnergyConsistency)
 {
   if (!GetParam().potential()) GTEST_SKIP() << "hourglass control is not a potential";
   build(false, GetParam().dim == 3 ? 9 : 17);
-  std::mt19937 rng(5);
-  std::uniform_real_distribution<double> U(-0.004 * blk.dx, 0.004 * blk.dx);
-  displace([&](const double *) {
-    return std::array<double, 3>{U(rng), U(rng), blk.dim == 3 ? U(rng) : 0.0};
-  });
-  cmd(lmp, "run 0");
-  const auto f0 = by_tag(lmp, lmp->atom->f);
-  double fmax = 0.0;
-  for (auto &v : f0)
-    for (double c : v) fmax = std::max(fmax, std::abs(c));
-  const double h = 1e-5 * blk.dx;
-  double **x = lmp->atom->x;
   const int natoms = lmp->atom->natoms;
-  for (int probe : {0, natoms / 3, natoms / 2, natoms - 1}) {
-    const int i = lmp->atom->map(probe + 1);
-    for (int k = 0; k < blk.dim; k++) {
-      const double keep = x[i][k];
-      x[i][k] = keep + h;
-      cmd(lmp, "run 0");
-      const double ep = lmp->force->pair->eng_vdwl;
-      x[i][k] = keep - h;
-      cmd(lmp, "run 0");
-      const double em = lmp->force->pair->eng_vdwl;
-      x[i][k] = keep;
-      const double fd = -(ep - em) / (2.0 * h);
-      EXPECT_NEAR(fd, f0[probe][k], 2e-6 * fmax) << "atom " << probe + 1 << " dir " << k;
-    }
-  }
+  expect_force_is_energy_gradient(lmp, blk, {0, natoms / 3, natoms / 2, natoms - 1});
 }
 
 /* 5. Objectivity: a rigid rotation of the whole body produces no force and
