@@ -98,7 +98,8 @@ FixNospdDamage::FixNospdDamage(LAMMPS *lmp, int narg, char **arg) :
     nofail_region_id(nullptr), nofail_region(nullptr), detach_singular(false), contact(false),
     contact_scale(15.0), contact_radius(0.0), contact_rc(0.0), list(nullptr), pair(nullptr),
     bonds(nullptr), crit(nullptr), kcontact(nullptr), delta(nullptr), nstate(0), state(nullptr), ncomm(4), nmax_comm(0),
-    cdata(nullptr), precracks_done(false), nbroken_total(0), nbroken_step(0), ncontact(0)
+    cdata(nullptr), precracks_done(false), nbroken_total(0), nbroken_step(0), ncontact(0),
+    econtact(0.0)
 {
   if (lmp->citeme) lmp->citeme->add(cite_damage);
   const std::string cmd = std::string("fix ") + style;
@@ -246,6 +247,15 @@ FixNospdDamage::FixNospdDamage(LAMMPS *lmp, int narg, char **arg) :
     } else
       error->all(FLERR, "{}: unknown keyword '{}'", cmd, key);
   }
+  if (contact) {
+    // the contact force is an interaction like the pair style's: its energy
+    // (global scalar) and virial enter thermo pe and pressure by default
+    scalar_flag = 1;
+    extscalar = 1;
+    energy_global_flag = 1;
+    virial_global_flag = virial_peratom_flag = 1;
+    thermo_energy = thermo_virial = 1;
+  }
   if (criterion == NONE && precracks.empty() && !contact)
     error->all(FLERR, "{}: criterion none with neither precrack nor contact does nothing", cmd);
 
@@ -296,6 +306,7 @@ int FixNospdDamage::setmask()
 void FixNospdDamage::init()
 {
   const std::string cmd = std::string("fix ") + style;
+  econtact = 0.0;    // minimize adds no contact force: no stale energy either
   pair = PairPeriNospd::find(force);
   if (!pair)
     error->all(FLERR, "{} requires a peri/nospd pair style (it acts on that style's bond "
@@ -417,8 +428,9 @@ void FixNospdDamage::setup_pre_force(int /*vflag*/)
    computed with exactly those bonds.
 ------------------------------------------------------------------------- */
 
-void FixNospdDamage::setup(int /*vflag*/)
+void FixNospdDamage::setup(int vflag)
 {
+  v_init(vflag);
   if (contact) contact_forces();
   else ncontact = 0;
   store_state();
@@ -439,8 +451,9 @@ void FixNospdDamage::pre_force(int /*vflag*/)
 
 /* ---------------------------------------------------------------------- */
 
-void FixNospdDamage::post_force(int /*vflag*/)
+void FixNospdDamage::post_force(int vflag)
 {
+  v_init(vflag);
   if (contact) contact_forces();
   store_state();
 }
@@ -746,11 +759,15 @@ void FixNospdDamage::apply_precracks()
    2D 9E/(pi t delta^3) plane stress, 48E/(5 pi t delta^3) plane strain),
    C = contact/stiffness (default 15), r_c = contact/radius (default 1.35
    times the point spacing).  Pairs V_i f_i + V_j f_j = 0: momentum is
-   conserved.  Force density, like every force of the peri styles.
+   conserved.  Force density, like every force of the peri styles.  Its
+   potential, in the styles' density convention (each end takes half):
+     e_i += 1/4 k_IJ V_j (r - d_ij)^2/delta_IJ   per partner j in contact,
+   and the virial 1/2 (x_i - x_j) (x) f_i, both tallied on i.
 ------------------------------------------------------------------------- */
 
 void FixNospdDamage::contact_forces()
 {
+  econtact = 0.0;
   if (!list) return;
   double **x = atom->x, **x0 = atom->x0, **f = atom->f;
   const int *type = atom->type;
@@ -767,6 +784,7 @@ void FixNospdDamage::contact_forces()
   tagint **partner = bonds->partner;
 
   bigint nc = 0;
+  double e = 0.0;
   for (int ii = 0; ii < inum; ii++) {
     const int i = ilist[ii];
     if (!(mask[i] & groupbit)) continue;
@@ -793,16 +811,34 @@ void FixNospdDamage::contact_forces()
         }
       if (bonded) continue;
       const int it = type[i], jt = type[j];
-      const double fpair = kcontact[it][jt] * vfrac[j] * (r - dij) / (delta[it][jt] * r);
+      const double kv = kcontact[it][jt] * vfrac[j] / delta[it][jt];
+      const double fpair = kv * (r - dij) / r;
       f[i][0] += fpair * dx;
       f[i][1] += fpair * dy;
       f[i][2] += fpair * dz;
+      e += 0.25 * kv * (r - dij) * (r - dij);
+      if (vflag_either) {
+        // 1/2 (x_i - x_j) (x) f_i, x_i - x_j = -(dx, dy, dz)
+        double v[6] = {-0.5 * fpair * dx * dx, -0.5 * fpair * dy * dy, -0.5 * fpair * dz * dz,
+                       -0.5 * fpair * dx * dy, -0.5 * fpair * dx * dz, -0.5 * fpair * dy * dz};
+        v_tally(i, v);
+      }
       nc++;
     }
   }
+  econtact = e;
   bigint all = 0;
   MPI_Allreduce(&nc, &all, 1, MPI_LMP_BIGINT, MPI_SUM, world);
   ncontact = all / 2;
+}
+
+/* ---------------------------------------------------------------------- */
+
+double FixNospdDamage::compute_scalar()
+{
+  double all = 0.0;
+  MPI_Allreduce(&econtact, &all, 1, MPI_DOUBLE, MPI_SUM, world);
+  return all;
 }
 
 /* ---------------------------------------------------------------------- */

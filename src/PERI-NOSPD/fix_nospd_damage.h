@@ -41,6 +41,7 @@ class FixNospdDamage : public Fix {
   void setup(int) override;
   void pre_force(int) override;
   void post_force(int) override;
+  double compute_scalar() override;
   double compute_vector(int) override;
   int pack_forward_comm(int, int *, double *, int, int *) override;
   void unpack_forward_comm(int, int, double *) override;
@@ -93,6 +94,7 @@ class FixNospdDamage : public Fix {
   bigint nbroken_total;     // bonds (pairs) broken by this fix, restart-persistent
   bigint nbroken_step;      // bonds broken at the last evaluation
   bigint ncontact;          // pairs in contact at the last force evaluation
+  double econtact;          // contact energy of the owned atoms, last evaluation
 
   void setup_tables();
   void store_state();

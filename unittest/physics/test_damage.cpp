@@ -136,6 +136,39 @@ class Damage : public ::testing::Test {
     cmd(lmp, "thermo_style custom step pe f_dmg[1]");
   }
 
+  // two 2D glass plates 4 spacings apart (beyond the horizon) thrown at
+  // each other at 100 m/s, with or without the fix's contact
+  void colliding_plates(bool contact)
+  {
+    delete lmp;
+    lmp = open_lammps();
+    cmd(lmp, "units si");
+    cmd(lmp, "dimension 2");
+    cmd(lmp, "boundary s s p");
+    cmd(lmp, "atom_style peri");
+    cmd(lmp, "atom_modify map array");
+    cmd(lmp, "lattice sq 0.001");
+    cmd(lmp, "region box block 0 30 0 12 -0.5 0.5");
+    cmd(lmp, "create_box 2 box");
+    cmd(lmp, "region a block 0 10 0 12 -0.5 0.5");
+    cmd(lmp, "region b block 13.6 25 0.5 11.5 -0.5 0.5");    // gap 4 dx > horizon
+    cmd(lmp, "create_atoms 1 region a");
+    cmd(lmp, "create_atoms 2 region b");
+    cmd(lmp, "group a type 1");
+    cmd(lmp, "group b type 2");
+    cmd(lmp, "set group all density 2440");
+    cmd(lmp, "set group all volume 1e-6");
+    cmd(lmp, "neighbor 0.0003 bin");
+    cmd(lmp, "comm_modify cutoff 0.008");
+    cmd(lmp, "pair_style peri/nospd strain finite plane stress stabilization silling 0.5");
+    cmd(lmp, "pair_coeff * * 72e9 0.22 0.003015");
+    if (contact) cmd(lmp, "fix dmg all nospd/damage none contact yes");
+    cmd(lmp, "velocity a set 100 0 0 units box");
+    cmd(lmp, "velocity b set -100 0 0 units box");
+    cmd(lmp, "fix 1 all nve");
+    cmd(lmp, "timestep 2e-8");
+  }
+
   std::vector<double> damage_by_tag()
   {
     auto *c = lmp->modify->get_compute_by_id("dmg");
@@ -635,33 +668,7 @@ TEST_F(Damage, ComputeDamageAtomCompatible)
 TEST_F(Damage, ContactKeepsBodiesApart)
 {
   for (bool on : {false, true}) {
-    delete lmp;
-    lmp = open_lammps();
-    cmd(lmp, "units si");
-    cmd(lmp, "dimension 2");
-    cmd(lmp, "boundary s s p");
-    cmd(lmp, "atom_style peri");
-    cmd(lmp, "atom_modify map array");
-    cmd(lmp, "lattice sq 0.001");
-    cmd(lmp, "region box block 0 30 0 12 -0.5 0.5");
-    cmd(lmp, "create_box 2 box");
-    cmd(lmp, "region a block 0 10 0 12 -0.5 0.5");
-    cmd(lmp, "region b block 13.6 25 0.5 11.5 -0.5 0.5");    // gap 4 dx > horizon
-    cmd(lmp, "create_atoms 1 region a");
-    cmd(lmp, "create_atoms 2 region b");
-    cmd(lmp, "group a type 1");
-    cmd(lmp, "group b type 2");
-    cmd(lmp, "set group all density 2440");
-    cmd(lmp, "set group all volume 1e-6");
-    cmd(lmp, "neighbor 0.0003 bin");
-    cmd(lmp, "comm_modify cutoff 0.008");
-    cmd(lmp, "pair_style peri/nospd strain finite plane stress stabilization silling 0.5");
-    cmd(lmp, "pair_coeff * * 72e9 0.22 0.003015");
-    if (on) cmd(lmp, "fix dmg all nospd/damage none contact yes");
-    cmd(lmp, "velocity a set 100 0 0 units box");
-    cmd(lmp, "velocity b set -100 0 0 units box");
-    cmd(lmp, "fix 1 all nve");
-    cmd(lmp, "timestep 2e-8");
+    colliding_plates(on);
     double dmin = 1e30;
     double pmax = 0.0, p0 = 0.0, ncmax = 0.0;
     for (int i = 0; i < lmp->atom->nlocal; i++) p0 += lmp->atom->v[i][0];
@@ -689,6 +696,70 @@ TEST_F(Damage, ContactKeepsBodiesApart)
       EXPECT_LT(dmin, 0.3e-3);
     }
   }
+}
+
+/* Contact energy and virial.  During the collision of two plates the
+   total energy ke + pe, with the contact energy in pe (the fix's default),
+   stays constant while the contact energy itself rises to a sizeable part
+   of it (without it pe misses exactly that part); the fix's virial equals
+   sum_i x_i (x) f_i of the contact forces alone (the absolute-position
+   form of the virial of a non-periodic body). */
+TEST_F(Damage, ContactEnergyAndVirial)
+{
+  colliding_plates(true);
+  cmd(lmp, "compute ke all ke");
+  cmd(lmp, "thermo_style custom step ke pe f_dmg");
+  cmd(lmp, "run 0 post no");
+  auto *ke = lmp->modify->get_compute_by_id("ke");
+  auto *fix = lmp->modify->get_fix_by_id("dmg");
+  auto total = [&]() { return ke->compute_scalar() + potential_energy(lmp); };
+  const double e0 = total();
+  double drift = 0.0, ecmax = 0.0;
+  for (int k = 0; k < 20; k++) {
+    cmd(lmp, "run 50 post no");
+    drift = std::max(drift, std::abs(total() - e0));
+    ecmax = std::max(ecmax, fix->compute_scalar());
+  }
+  ASSERT_GT(ecmax, 0.01 * e0);    // the plates did collide
+  EXPECT_LT(drift, 0.02 * ecmax);
+  EXPECT_LT(drift, 1e-3 * e0);
+
+  // virial at a configuration in contact (the same collision again, up to
+  // half the largest contact energy): contact forces = forces with the fix
+  // less forces without it, at the same positions
+  colliding_plates(true);
+  cmd(lmp, "compute p all pressure NULL virial");
+  cmd(lmp, "thermo_style custom step pe f_dmg c_p");
+  fix = lmp->modify->get_fix_by_id("dmg");
+  double ecnow = 0.0;
+  for (int k = 0; k < 100 && ecnow < 0.5 * ecmax; k++) {
+    cmd(lmp, "run 10 post no");
+    ecnow = fix->compute_scalar();
+  }
+  ASSERT_GT(ecnow, 0.0);
+  const int n = lmp->atom->nlocal;
+  std::vector<std::array<double, 3>> fwith(n);
+  double **f = lmp->atom->f, **x = lmp->atom->x;
+  cmd(lmp, "run 0 post no");
+  for (int i = 0; i < n; i++) fwith[i] = {f[i][0], f[i][1], f[i][2]};
+  std::array<double, 6> vfix;
+  for (int k = 0; k < 6; k++) vfix[k] = fix->virial[k];
+  cmd(lmp, "thermo_style custom step pe");
+  cmd(lmp, "unfix dmg");
+  cmd(lmp, "run 0 post no");
+  std::array<double, 6> w{};
+  for (int i = 0; i < n; i++) {
+    const double fc[3] = {fwith[i][0] - f[i][0], fwith[i][1] - f[i][1], fwith[i][2] - f[i][2]};
+    w[0] += x[i][0] * fc[0];
+    w[1] += x[i][1] * fc[1];
+    w[2] += x[i][2] * fc[2];
+    w[3] += x[i][0] * fc[1];
+    w[4] += x[i][0] * fc[2];
+    w[5] += x[i][1] * fc[2];
+  }
+  ASSERT_GT(vfix[0], 0.0);    // repulsion along x: a positive virial (pressure)
+  for (int k = 0; k < 6; k++)
+    EXPECT_NEAR(vfix[k], w[k], 1e-9 * std::abs(vfix[0])) << "component " << k;
 }
 
 /* Scatter depends on the two reference positions only: symmetric in the
