@@ -99,9 +99,8 @@ class Damage : public ::testing::Test {
     }
   }
 
-  // a 2D plate pulled apart at its top and bottom rows, with a pre-crack
-  // from the left edge to the middle: a mode-I fracture run
-  void fracture_plate(const std::string &damage_args, int nx = 40, int ny = 20)
+  // the opening lines of every 2D deck here: SI units, peri atoms, 1 mm grid
+  void begin_2d_deck()
   {
     cmd(lmp, "units si");
     cmd(lmp, "dimension 2");
@@ -109,6 +108,13 @@ class Damage : public ::testing::Test {
     cmd(lmp, "atom_style peri");
     cmd(lmp, "atom_modify map array");
     cmd(lmp, "lattice sq 0.001");
+  }
+
+  // a 2D plate pulled apart at its top and bottom rows, with a pre-crack
+  // from the left edge to the middle: a mode-I fracture run
+  void fracture_plate(const std::string &damage_args, int nx = 40, int ny = 20)
+  {
+    begin_2d_deck();
     cmd(lmp, "region box block 0 " + std::to_string(nx) + " 0 " + std::to_string(ny) +
                  " -0.5 0.5");
     cmd(lmp, "create_box 1 box");
@@ -142,12 +148,7 @@ class Damage : public ::testing::Test {
   {
     delete lmp;
     lmp = open_lammps();
-    cmd(lmp, "units si");
-    cmd(lmp, "dimension 2");
-    cmd(lmp, "boundary s s p");
-    cmd(lmp, "atom_style peri");
-    cmd(lmp, "atom_modify map array");
-    cmd(lmp, "lattice sq 0.001");
+    begin_2d_deck();
     cmd(lmp, "region box block 0 30 0 12 -0.5 0.5");
     cmd(lmp, "create_box 2 box");
     cmd(lmp, "region a block 0 10 0 12 -0.5 0.5");
