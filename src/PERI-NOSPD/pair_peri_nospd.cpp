@@ -507,13 +507,8 @@ void PairPeriNospd::constitutive_pass(int eflag)
     if (eflag) {
       double e = W;
       if (stab == Stab::SILLING || stab == Stab::WAN) {
-        // 1/2 sum_j w z.S z = 1/2 S : (M_UU - H K H^T), since sum_j w U (x) xi = H K
-        const double *m = moments[i];
-        Mat3 M;
-        M << m[0], m[3], m[4], m[3], m[1], m[5], m[4], m[5], m[2];
-        Mat3 K = Ki.inverse();
-        if (domain->dimension == 2) K(2, 2) = 0.0;
-        const Mat3 Z = M - H * K * H.transpose();
+        // 1/2 sum_j w z.S z = 1/2 S : Z
+        const Mat3 Z = nonaffine_moment(i, H, Ki);
         if (stab == Stab::SILLING) e += 0.5 * stab_scalar[itype] * Z.trace();
         else e += 0.5 * NOSPD::load(tmat[i]).cwiseProduct(Z).sum();
       }
@@ -521,6 +516,21 @@ void PairPeriNospd::constitutive_pass(int eflag)
       tally_energy(i, e);
     }
   }
+}
+
+/* ----------------------------------------------------------------------
+   Z = sum_j w z (x) z with z = U - H xi, from the moments of pass 1:
+   Z = M_UU - H K H^T, since sum_j w U (x) xi = H K
+------------------------------------------------------------------------- */
+
+NOSPD::Mat3 PairPeriNospd::nonaffine_moment(int i, const Mat3 &H, const Mat3 &Ki) const
+{
+  const double *m = moments[i];
+  Mat3 M;
+  M << m[0], m[3], m[4], m[3], m[1], m[5], m[4], m[5], m[2];
+  Mat3 K = Ki.inverse();
+  if (domain->dimension == 2) K(2, 2) = 0.0;
+  return M - H * K * H.transpose();
 }
 
 /* ---------------------------------------------------------------------- */
@@ -774,3 +784,7 @@ void *PairPeriNospd::extract(const char *name, int &dim)
   if (strcmp(name, "delta") == 0 || strcmp(name, "cut") == 0) return (void *) cut;
   return nullptr;
 }
+
+// the Silling pass is also run by the bond-associated style
+template void LAMMPS_NS::PairPeriNospd::force_pass<1, 0>(int);
+template void LAMMPS_NS::PairPeriNospd::force_pass<1, 1>(int);

@@ -89,6 +89,7 @@ class PairPeriNospd : public Pair {
   void ensure_bonds_fix();
   void grow_work();
   void constitutive_pass(int eflag);
+  NOSPD::Mat3 nonaffine_moment(int i, const NOSPD::Mat3 &H, const NOSPD::Mat3 &Ki) const;
   template <int STAB, int VIRIAL> void force_pass(int eflag);
   void tally_energy(int i, double e);
   // the last step of a force pass for owned atom i: its force and the

@@ -97,6 +97,11 @@ class PairPeriNospdHS : public PairPeriNospd {
   void apply_family(int i, const NOSPD::BondPattern &p, int lane, const NOSPD::StateOutput &out,
                     int eflag);
   void gather_family(int i, const NOSPD::BondPattern &p, const uint16_t *perm, int lane);
+
+  // optional Silling stabilization on top of the bond-associated forces
+  bool silling_on;
+  std::vector<double> stab_energy;    // its energy density per owned atom
+  void silling_stabilization(int eflag);
 };
 
 }    // namespace LAMMPS_NS

@@ -8,6 +8,7 @@
 #include "compute.h"
 #include "exceptions.h"
 #include "fix.h"
+#include "fix_nospd_bonds.h"
 #include "force.h"
 #include "input.h"
 #include "lammps.h"
@@ -153,6 +154,27 @@ inline void expect_force_is_energy_gradient(LAMMPS *lmp, const Block &blk,
       EXPECT_NEAR(fd, f0[probe][k], 2e-6 * fmax) << "atom " << probe + 1 << " dir " << k;
     }
   }
+}
+
+// Break a fraction of the bonds at random, on both ends, straight in the
+// bonds fix's partner lists (serial decks; the next run rebuilds K, F).
+inline int break_random_bonds(LAMMPS *lmp, double fraction, unsigned seed)
+{
+  auto *fb = static_cast<LAMMPS_NS::FixNospdBonds *>(lmp->modify->get_fix_by_id("NOSPD_BONDS"));
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> U(0.0, 1.0);
+  int nbroken = 0;
+  for (int i = 0; i < lmp->atom->nlocal; i++)
+    for (int s = 0; s < fb->npartner[i]; s++) {
+      const auto tj = fb->partner[i][s];
+      if (tj == 0 || tj < lmp->atom->tag[i] || U(rng) > fraction) continue;
+      fb->partner[i][s] = 0;
+      const int j = lmp->atom->map(tj);
+      for (int t = 0; t < fb->npartner[j]; t++)
+        if (fb->partner[j][t] == lmp->atom->tag[i]) fb->partner[j][t] = 0;
+      nbroken++;
+    }
+  return nbroken;
 }
 
 }    // namespace nospdtest

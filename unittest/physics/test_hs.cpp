@@ -167,26 +167,6 @@ class HS : public ::testing::TestWithParam<Variant> {
     return {c, c, blk.dim == 2 ? 0.0 : c};
   }
 
-  // break a fraction of the bonds at random (both ends; serial decks)
-  int break_random_bonds(double fraction, unsigned seed)
-  {
-    auto *fb = bonds();
-    std::mt19937 rng(seed);
-    std::uniform_real_distribution<double> U(0.0, 1.0);
-    int nbroken = 0;
-    for (int i = 0; i < lmp->atom->nlocal; i++)
-      for (int s = 0; s < fb->npartner[i]; s++) {
-        const auto tj = fb->partner[i][s];
-        if (tj == 0 || tj < lmp->atom->tag[i] || U(rng) > fraction) continue;
-        fb->partner[i][s] = 0;
-        const int j = lmp->atom->map(tj);
-        for (int t = 0; t < fb->npartner[j]; t++)
-          if (fb->partner[j][t] == lmp->atom->tag[i]) fb->partner[j][t] = 0;
-        nbroken++;
-      }
-    return nbroken;
-  }
-
   double max_force()
   {
     double fmax = 0.0;
@@ -331,7 +311,7 @@ TEST_P(HS, EnergyConsistencyDamaged)
 {
   if (!GetParam().two()) GTEST_SKIP() << "Form I is not derived from an energy";
   build(false, GetParam().dim == 3 ? 9 : 17);
-  ASSERT_GT(break_random_bonds(0.3, 29), 100);
+  ASSERT_GT(break_random_bonds(lmp, 0.3, 29), 100);
   std::vector<int> probes;
   const int natoms = lmp->atom->natoms;
   for (int p = 0; p < natoms; p += std::max(1, natoms / 23)) probes.push_back(p);
@@ -441,7 +421,7 @@ TEST_P(HS, BrokenBondsUndeformed)
   build();
   auto *fb = bonds();
   const int nlocal = lmp->atom->nlocal;
-  const int nbroken = break_random_bonds(0.3, 13);
+  const int nbroken = break_random_bonds(lmp, 0.3, 13);
   ASSERT_GT(nbroken, 100);
   cmd(lmp, "run 0");
   EXPECT_EQ((bigint) fb->compute_vector(1), 2 * (bigint) nbroken);
@@ -483,7 +463,7 @@ TEST_F(HSDeck, Restart)
   Block b;
   b.n = 9;
   b.style = "peri/nospd/hs";
-  b.settings = "strain svk form II ratio 1.2";
+  b.settings = "strain svk form II ratio 1.2 stabilization silling 0.4";
   make_block(lmp, b);
   cmd(lmp, "displace_atoms all random 2e-6 2e-6 2e-6 8811 units box");
   cmd(lmp, "run 0");
@@ -561,27 +541,92 @@ TEST_F(HSDeck, SingularFallback)
    the family lies within 2 delta of every other). */
 TEST_F(HSDeck, RatioTwoIsClassical)
 {
-  std::vector<std::array<double, 3>> f[2];
-  for (int m = 0; m < 2; m++) {
-    LAMMPS *l = open_lammps();
+  // without stabilization, and with the same Silling term in both styles
+  for (const std::string stab : {"none", "silling 0.4"}) {
+    std::vector<std::array<double, 3>> f[2];
+    double e[2];
+    for (int m = 0; m < 2; m++) {
+      LAMMPS *l = open_lammps();
+      Block b;
+      b.n = 9;
+      b.style = m ? "peri/nospd/hs" : "peri/nospd";
+      b.settings = (m ? "form II ratio 2.0" : "") + std::string(" stabilization ") + stab;
+      make_block(l, b);
+      cmd(l, "displace_atoms all random 2e-6 2e-6 2e-6 8811 units box");
+      cmd(l, "run 0");
+      f[m] = by_tag(l, l->atom->f);
+      e[m] = l->force->pair->eng_vdwl;
+      delete l;
+    }
+    double fmax = 0.0, df = 0.0;
+    for (size_t i = 0; i < f[0].size(); i++)
+      for (int k = 0; k < 3; k++) {
+        fmax = std::max(fmax, std::abs(f[0][i][k]));
+        df = std::max(df, std::abs(f[1][i][k] - f[0][i][k]));
+      }
+    EXPECT_GT(fmax, 0.0) << stab;
+    EXPECT_LT(df, 1e-10 * fmax) << stab;
+    EXPECT_NEAR(e[1], e[0], 1e-10 * std::abs(e[0])) << stab;
+  }
+}
+
+/* Silling stabilization on top of the bond-associated forces (form II,
+   ratio 1): nothing under a homogeneous deformation (the patch test is
+   the bond-associated model's), a restoring force against the non-affine
+   part, and still the exact gradient of the energy in a damaged body. */
+TEST_F(HSDeck, SillingStabilization)
+{
+  auto deck = [&](const std::string &stab) {
+    delete lmp;
+    lmp = open_lammps();
     Block b;
     b.n = 9;
-    b.style = m ? "peri/nospd/hs" : "peri/nospd";
-    b.settings = m ? "form II ratio 2.0" : "stabilization none";
-    make_block(l, b);
-    cmd(l, "displace_atoms all random 2e-6 2e-6 2e-6 8811 units box");
-    cmd(l, "run 0");
-    f[m] = by_tag(l, l->atom->f);
-    delete l;
+    b.style = "peri/nospd/hs";
+    b.settings = "strain finite form II stabilization " + stab;
+    make_block(lmp, b);
+    return b;
+  };
+  auto forces_after = [&](const std::string &displace) {
+    cmd(lmp, displace);
+    cmd(lmp, "run 0");
+    return by_tag(lmp, lmp->atom->f);
+  };
+  auto max_diff = [](const std::vector<std::array<double, 3>> &a,
+                     const std::vector<std::array<double, 3>> &b, double &amax) {
+    double d = 0.0;
+    amax = 0.0;
+    for (size_t i = 0; i < a.size(); i++)
+      for (int k = 0; k < 3; k++) {
+        amax = std::max(amax, std::abs(a[i][k]));
+        d = std::max(d, std::abs(a[i][k] - b[i][k]));
+      }
+    return d;
+  };
+  // homogeneous deformation: a stretched and sheared box of points
+  std::vector<std::array<double, 3>> f[2];
+  for (int m = 0; m < 2; m++) {
+    deck(m ? "silling 0.5" : "none");
+    cmd(lmp, "variable ux atom 0.002*x+0.001*y");
+    cmd(lmp, "variable uy atom 0.0015*z");
+    cmd(lmp, "variable uz atom -0.001*x");
+    f[m] = forces_after("displace_atoms all move v_ux v_uy v_uz units box");
   }
-  double fmax = 0.0, df = 0.0;
-  for (size_t i = 0; i < f[0].size(); i++)
-    for (int k = 0; k < 3; k++) {
-      fmax = std::max(fmax, std::abs(f[0][i][k]));
-      df = std::max(df, std::abs(f[1][i][k] - f[0][i][k]));
-    }
+  double fmax;
+  const double dhom = max_diff(f[1], f[0], fmax);
   EXPECT_GT(fmax, 0.0);
-  EXPECT_LT(df, 1e-10 * fmax);
+  EXPECT_LT(dhom, 1e-9 * fmax) << "homogeneous deformation: the Silling term must vanish";
+
+  for (int m = 0; m < 2; m++) {
+    deck(m ? "silling 0.5" : "none");
+    f[m] = forces_after("displace_atoms all random 2e-6 2e-6 2e-6 8811 units box");
+  }
+  EXPECT_GT(max_diff(f[1], f[0], fmax), 1e-3 * fmax) << "non-affine: the term must act";
+
+  const Block b = deck("silling 0.5");
+  cmd(lmp, "run 0");
+  ASSERT_GT(break_random_bonds(lmp, 0.3, 31), 100);
+  const int natoms = lmp->atom->natoms;
+  expect_force_is_energy_gradient(lmp, b, {0, natoms / 4, natoms / 2, 3 * natoms / 4, natoms - 1});
 }
 
 /* Bad input: LAMMPS errors naming the value. */
@@ -603,8 +648,12 @@ TEST_F(HSDeck, BadInput)
   EXPECT_THAT(error_of(lmp, "pair_style peri/nospd/hs ratio 0"), HasSubstr("ratio must be > 0"));
   EXPECT_THAT(error_of(lmp, "pair_style peri/nospd/hs ratio -1"), HasSubstr("ratio must be > 0"));
   EXPECT_THAT(error_of(lmp, "pair_style peri/nospd/hs form III"), HasSubstr("unknown form 'III'"));
-  EXPECT_THAT(error_of(lmp, "pair_style peri/nospd/hs stabilization silling 0.5"),
-              HasSubstr("stabilization must be none"));
+  EXPECT_THAT(error_of(lmp, "pair_style peri/nospd/hs stabilization wan"),
+              HasSubstr("stabilization must be none or silling G, got 'wan'"));
+  EXPECT_THAT(error_of(lmp, "pair_style peri/nospd/hs stabilization hourglass 0.2"),
+              HasSubstr("stabilization must be none or silling G, got 'hourglass'"));
+  EXPECT_NE(error_of(lmp, "pair_style peri/nospd/hs stabilization silling -1"), "");
+  EXPECT_EQ(error_of(lmp, "pair_style peri/nospd/hs stabilization silling 0.5 form II"), "");
   EXPECT_THAT(error_of(lmp, "pair_style peri/nospd/hs strain bogus"), HasSubstr("unknown strain"));
   EXPECT_EQ(error_of(lmp, "pair_style peri/nospd/hs stabilization none form I ratio 1.5"), "");
   // a ratio that leaves the bond-associated families degenerate
