@@ -785,6 +785,8 @@ void *PairPeriNospd::extract(const char *name, int &dim)
   return nullptr;
 }
 
-// the Silling pass is also run by the bond-associated style
+// the Silling and hourglass passes are also run by the bond-associated style
 template void LAMMPS_NS::PairPeriNospd::force_pass<1, 0>(int);
 template void LAMMPS_NS::PairPeriNospd::force_pass<1, 1>(int);
+template void LAMMPS_NS::PairPeriNospd::force_pass<2, 0>(int);
+template void LAMMPS_NS::PairPeriNospd::force_pass<2, 1>(int);

@@ -88,7 +88,7 @@ NOSPD_KERNEL_CLONES bool evaluate(const BondPattern &p, HSForm form, NOSPD::Law 
 PairPeriNospdHS::PairPeriNospdHS(LAMMPS *lmp) :
     PairPeriNospd(lmp), hs_form(HSForm::II), hs_ratio(1.0), mapped_version(-1),
     nsingular_bonds(0), nfallback_states(0), reported(false), nmax_ghost(0), fghost(nullptr),
-    vghost(nullptr), reverse_virial(0), silling_on(false)
+    vghost(nullptr), reverse_virial(0), stab_on(false)
 {
   if (lmp->citeme) lmp->citeme->add(cite_nospd_hs);
   stab = NOSPD::Stab::NONE;
@@ -122,7 +122,7 @@ void PairPeriNospdHS::settings(int narg, char **arg)
 {
   const std::string cmd = std::string("pair_style ") + force->pair_style;
   std::vector<char *> rest;
-  bool silling = false;
+  bool stabilized = false;    // silling or hourglass given
   int iarg = 0;
   while (iarg < narg) {
     const std::string key = arg[iarg];
@@ -140,19 +140,19 @@ void PairPeriNospdHS::settings(int narg, char **arg)
       if (!(hs_ratio > 0.0))
         error->all(FLERR, "{}: ratio must be > 0, got {}", cmd, val);
     } else if (key == "stabilization") {
-      if (val == "silling") {
+      if (val == "silling" || val == "hourglass") {
         // the classical parser reads G (and reports a missing value)
         rest.push_back(arg[iarg]);
         rest.push_back(arg[iarg + 1]);
         if (iarg + 2 < narg) rest.push_back(arg[iarg + 2]);
-        silling = true;
+        stabilized = true;
         iarg += 3;
         continue;
       }
       if (val != "none")
         error->all(FLERR, "{}: the bond-associated model controls zero-energy modes by itself; "
-                   "stabilization must be none or silling G, got '{}'", cmd, val);
-      silling = false;
+                   "stabilization must be none, silling G or hourglass C, got '{}'", cmd, val);
+      stabilized = false;
     } else {
       rest.push_back(arg[iarg]);
       rest.push_back(arg[iarg + 1]);
@@ -160,8 +160,8 @@ void PairPeriNospdHS::settings(int narg, char **arg)
     iarg += 2;
   }
   PairPeriNospd::settings((int) rest.size(), rest.data());
-  silling_on = silling;
-  if (!silling_on) stab = NOSPD::Stab::NONE;
+  stab_on = stabilized;
+  if (!stab_on) stab = NOSPD::Stab::NONE;
   // new settings may change every pattern
   patterns.clear();
   pattern_lookup.clear();
@@ -173,7 +173,7 @@ void PairPeriNospdHS::settings(int narg, char **arg)
 void PairPeriNospdHS::init_style()
 {
   PairPeriNospd::init_style();
-  if (!silling_on) comm_forward = 0;    // else the classical B and s travel
+  if (!stab_on) comm_forward = 0;    // else the classical B (H) and s travel
   reported = false;
   linear_law.assign(atom->ntypes + 1, NOSPD::LinearLaw());
   for (int i = 1; i <= atom->ntypes; i++)
@@ -204,12 +204,12 @@ void PairPeriNospdHS::compute(int eflag, int vflag)
 
   // the stabilization first: it needs the families' F, which the
   // bond-associated pass then overwrites with its own output
-  if (silling_on) silling_stabilization(eflag);
+  if (stab_on) stabilization_pass(eflag);
 
   const bool virial = vflag_either;
   if (domain->dimension == 2) virial ? force_pass<2, 1>(eflag) : force_pass<2, 0>(eflag);
   else virial ? force_pass<3, 1>(eflag) : force_pass<3, 0>(eflag);
-  if (silling_on && eflag)
+  if (stab == NOSPD::Stab::SILLING && eflag)
     for (int i = 0; i < atom->nlocal; i++) fix_bonds->energy_density[i] += stab_energy[i];
 
   // forces (and virial) scattered onto ghosts go home
@@ -292,16 +292,20 @@ template <int DIM, int VIRIAL> void PairPeriNospdHS::force_pass(int eflag)
 }
 
 /* ----------------------------------------------------------------------
-   Silling's stabilization on the families' F, as in the classical style:
-     f_i += sum_j w (-(s_i H_i + s_j H_j) xi + (s_i + s_j) U),  H = F - I
-   energy 1/2 s sum_j w |U - H xi|^2 per atom.  It acts on what the
-   bond-associated forces leave free in sparse, damaged families; on a
-   homogeneous deformation it vanishes (U = H xi), so the patch test and
-   the bulk stress are those of the bond-associated model.
+   The classical style's stabilization on the families' F, H = F - I:
+   silling:   f_i += sum_j w (-(s_i H_i + s_j H_j) xi + (s_i + s_j) U),
+              energy 1/2 s sum_j w |U - H xi|^2 per atom;
+   hourglass: the force along each bond against its non-affine part (no
+              energy).
+   It acts on what the bond-associated forces leave free in sparse,
+   damaged families; on a homogeneous deformation it vanishes
+   (U = H xi), so the patch test and the bulk stress are those of the
+   bond-associated model.
 ------------------------------------------------------------------------- */
 
-void PairPeriNospdHS::silling_stabilization(int eflag)
+void PairPeriNospdHS::stabilization_pass(int eflag)
 {
+  const bool silling = (stab == NOSPD::Stab::SILLING);
   grow_work();
   fix_bonds->compute_deformation(eflag ? moments : nullptr);
   const int nlocal = atom->nlocal;
@@ -315,8 +319,13 @@ void PairPeriNospdHS::silling_stabilization(int eflag)
     }
     const double s = stab_scalar[type[i]];
     const Mat3 H = NOSPD::load(fix_bonds->defgrad[i]) - Mat3::Identity();
-    NOSPD::store(Mat3(-s * H), bmat[i]);
     stab_atom[i] = s;
+    if (!silling) {
+      NOSPD::store(Mat3::Zero(), bmat[i]);
+      NOSPD::store(H, tmat[i]);
+      continue;
+    }
+    NOSPD::store(Mat3(-s * H), bmat[i]);
     if (eflag) {
       // 1/2 s sum_j w |z|^2
       stab_energy[i] = 0.5 * s * nonaffine_moment(i, H, NOSPD::load(fix_bonds->kinv[i])).trace();
@@ -324,8 +333,10 @@ void PairPeriNospdHS::silling_stabilization(int eflag)
     }
   }
   comm->forward_comm(this);
-  if (vflag_either) PairPeriNospd::force_pass<1, 1>(eflag);
-  else PairPeriNospd::force_pass<1, 0>(eflag);
+  if (silling) vflag_either ? PairPeriNospd::force_pass<1, 1>(eflag)
+                            : PairPeriNospd::force_pass<1, 0>(eflag);
+  else vflag_either ? PairPeriNospd::force_pass<2, 1>(eflag)
+                    : PairPeriNospd::force_pass<2, 0>(eflag);
 }
 
 /* ----------------------------------------------------------------------
@@ -690,8 +701,9 @@ void PairPeriNospdHS::read_restart_settings(FILE *fp)
   MPI_Bcast(&iv, 1, MPI_INT, 0, world);
   MPI_Bcast(&hs_ratio, 1, MPI_DOUBLE, 0, world);
   hs_form = static_cast<HSForm>(iv);
-  silling_on = (stab == NOSPD::Stab::SILLING);    // the classical settings hold it
-  if (!silling_on) stab = NOSPD::Stab::NONE;
+  // the classical settings hold the stabilization
+  stab_on = (stab == NOSPD::Stab::SILLING || stab == NOSPD::Stab::HOURGLASS);
+  if (!stab_on) stab = NOSPD::Stab::NONE;
 }
 
 /* ---------------------------------------------------------------------- */

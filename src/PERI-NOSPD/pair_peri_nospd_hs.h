@@ -98,10 +98,11 @@ class PairPeriNospdHS : public PairPeriNospd {
                     int eflag);
   void gather_family(int i, const NOSPD::BondPattern &p, const uint16_t *perm, int lane);
 
-  // optional Silling stabilization on top of the bond-associated forces
-  bool silling_on;
-  std::vector<double> stab_energy;    // its energy density per owned atom
-  void silling_stabilization(int eflag);
+  // optional stabilization (silling, hourglass) on top of the
+  // bond-associated forces
+  bool stab_on;
+  std::vector<double> stab_energy;    // Silling energy density per owned atom
+  void stabilization_pass(int eflag);
 };
 
 }    // namespace LAMMPS_NS
