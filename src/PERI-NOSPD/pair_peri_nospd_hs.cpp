@@ -112,10 +112,10 @@ PairPeriNospdHS::~PairPeriNospdHS()
    pair_style peri/nospd/hs keyword value ...
    form I|II and ratio r here; the classical style's keywords pass on.
    The bond-associated forces resist zero-energy modes by themselves, so
-   the default is no stabilization; "stabilization silling G" adds the
-   classical style's Silling term on the families' F (for damaged bodies,
-   whose sparse bond-associated families lose that resistance); other
-   stabilizations are an error.
+   the default is no stabilization; "stabilization silling G" (or
+   "hourglass C") adds the classical style's term on the families' F (for
+   damaged bodies, whose sparse bond-associated families lose that
+   resistance); "wan" is an error.
 ------------------------------------------------------------------------- */
 
 void PairPeriNospdHS::settings(int narg, char **arg)
