@@ -575,6 +575,14 @@ void FixNospdDamage::unpack_forward_comm(int n, int first, double *buf)
 void FixNospdDamage::evaluate_and_break(bool apply)
 {
   fill_comm_data();
+  if (criterion == STRETCH && alpha <= 0.0) {
+    std::vector<std::pair<int, int>> cut;
+    if (apply) stretch_cuts(cut);
+    if (!apply) return;
+    nbroken_step = break_list(cut);
+    nbroken_total += nbroken_step;
+    return;
+  }
   const int nlocal = atom->nlocal;
   const tagint *tag = atom->tag;
   const int *type = atom->type;
@@ -673,6 +681,78 @@ void FixNospdDamage::evaluate_and_break(bool apply)
   if (!apply) return;
   nbroken_step = break_list(cut);
   nbroken_total += nbroken_step;
+}
+
+/* ----------------------------------------------------------------------
+   The plain stretch criterion, the common case, as a tight loop over the
+   flat arrays.  Each end evaluates the bond from its own side: with
+   xi = x0_j - x0_i (minimum image) and U = u_j - u_i, the other end's
+   values are the exact negatives (IEEE subtraction is antisymmetric, the
+   minimum image too), so |Y|^2 and |xi|^2 and the decision agree bit for
+   bit on both ends, on any rank, without ordering the ends by ID.
+------------------------------------------------------------------------- */
+
+void FixNospdDamage::stretch_cuts(std::vector<std::pair<int, int>> &cut)
+{
+  const int nlocal = atom->nlocal;
+  const int nc = ncomm;
+  const double *_noalias const cd = cdata[0];
+  const double *_noalias const x0f = atom->x0[0];
+  double **x0 = atom->x0;
+  const int *_noalias const bfirst = bonds->bond_first;
+  const int *_noalias const bj = bonds->bond_j;
+  const int *_noalias const bslot = bonds->bond_slot;
+  const int *type = atom->type;
+  const bool periodic = domain->xperiodic || domain->yperiodic || domain->zperiodic;
+  const bool ortho = !domain->triclinic;
+  // minimum image of an orthogonal box, the operations of min_image() with
+  // the box read once (prd 0 marks a non-periodic direction)
+  const double prd[3] = {domain->xperiodic ? domain->xprd : 0.0,
+                         domain->yperiodic ? domain->yprd : 0.0,
+                         domain->zperiodic ? domain->zprd : 0.0};
+  const double half[3] = {domain->xprd_half, domain->yprd_half, domain->zprd_half};
+  const bool one_type = (atom->ntypes == 1);
+  const double limit1 = crit[1][1];
+
+  for (int i = 0; i < nlocal; i++) {
+    const double *ci = cd + (bigint) nc * i;
+    const int fi = static_cast<int>(ci[3]);
+    if (!(fi & FLAG_INGROUP)) continue;
+    const double xi0 = x0f[3 * i], yi0 = x0f[3 * i + 1], zi0 = x0f[3 * i + 2];
+    const double uxi = ci[0], uyi = ci[1], uzi = ci[2];
+    const int bend = bfirst[i + 1];
+    for (int b = bfirst[i]; b < bend; b++) {
+      const int j = bj[b];
+      const double *cj = cd + (bigint) nc * j;
+      const int fj = static_cast<int>(cj[3]);
+      if (!(fj & FLAG_INGROUP)) continue;
+      if ((fi | fj) & FLAG_NOFAIL) continue;
+      if (detach_singular && ((fi | fj) & FLAG_SINGULAR)) {
+        cut.emplace_back(i, bslot[b]);
+        continue;
+      }
+      double xi[3] = {x0f[3 * j] - xi0, x0f[3 * j + 1] - yi0, x0f[3 * j + 2] - zi0};
+      if (periodic) {
+        if (ortho) {
+          for (int k = 0; k < 3; k++)
+            if (prd[k] > 0.0)
+              while (fabs(xi[k]) > half[k]) xi[k] += (xi[k] < 0.0) ? prd[k] : -prd[k];
+        } else
+          min_image(domain, xi);
+      }
+      const double Yx = xi[0] + (cj[0] - uxi), Yy = xi[1] + (cj[1] - uyi),
+                   Yz = xi[2] + (cj[2] - uzi);
+      const double rxi2 = xi[0] * xi[0] + xi[1] * xi[1] + xi[2] * xi[2];
+      const double ry2 = Yx * Yx + Yy * Yy + Yz * Yz;
+      double limit = one_type ? limit1 : crit[type[i]][type[j]];
+      if (scatter_width > 0.0)
+        limit *= NOSPD::scatter_factor((uint64_t) scatter_seed, NOSPD::position_key(x0[i]),
+                                       NOSPD::position_key(x0[j]), scatter_width);
+      // s >= s_c  <=>  |Y|^2 >= (1 + s_c)^2 |xi|^2, without square roots
+      const double f = 1.0 + limit;
+      if (ry2 >= f * f * rxi2 || std::isnan(ry2)) cut.emplace_back(i, bslot[b]);
+    }
+  }
 }
 
 /* ----------------------------------------------------------------------

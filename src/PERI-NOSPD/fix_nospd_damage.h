@@ -100,6 +100,7 @@ class FixNospdDamage : public Fix {
   void store_state();
   void fill_comm_data();
   void evaluate_and_break(bool apply = true);
+  void stretch_cuts(std::vector<std::pair<int, int>> &cut);
   void apply_precracks();
   int break_list(std::vector<std::pair<int, int>> &);
   void contact_forces();
