@@ -532,9 +532,37 @@ void FixNospdBonds::break_bond(int i, int slot)
 
 void FixNospdBonds::bonds_changed()
 {
-  build_bond_arrays();
+  // breaking only removes bonds, and local indices hold until the next
+  // reneighboring: drop the broken entries in place rather than look every
+  // partner up again (same arrays, same order, as a rebuild would give)
+  if (nbond_atoms == atom->nlocal) compact_bond_arrays();
+  else build_bond_arrays();
   update_shape_tensors();
   count_bonds();
+}
+
+/* ----------------------------------------------------------------------
+   remove the entries whose partner slot has been broken since the arrays
+   were built (partner tag set to 0)
+------------------------------------------------------------------------- */
+
+void FixNospdBonds::compact_bond_arrays()
+{
+  const int nlocal = atom->nlocal;
+  int b = 0;
+  for (int i = 0; i < nlocal; i++) {
+    const int start = bond_first[i], end = bond_first[i + 1];
+    bond_first[i] = b;
+    for (int k = start; k < end; k++) {
+      if (partner[i][bond_slot[k]] == 0) continue;
+      bond_j[b] = bond_j[k];
+      bond_slot[b] = bond_slot[k];
+      bond_w[b] = bond_w[k];
+      b++;
+    }
+  }
+  bond_first[nlocal] = b;
+  bond_version++;
 }
 
 /* ---------------------------------------------------------------------- */

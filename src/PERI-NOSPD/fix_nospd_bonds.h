@@ -110,6 +110,7 @@ class FixNospdBonds : public FixPeriNeigh {
   void build_families();
   void update_x0s();
   void build_bond_arrays();
+  void compact_bond_arrays();
   void update_shape_tensors();
   void count_bonds();
   void report_families();
