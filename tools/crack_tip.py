@@ -27,19 +27,14 @@ import sys
 
 import numpy as np
 
+from lammps_dump import damage_column
+from lammps_dump import read_dump as read_dump_columns
+
 
 def read_dump(path):
-    with open(path) as f:
-        lines = f.readlines()
-    step = int(lines[lines.index("ITEM: TIMESTEP\n") + 1])
-    i = next(k for k, l in enumerate(lines) if l.startswith("ITEM: ATOMS"))
-    cols = lines[i].split()[2:]
-    data = np.array([[float(v) for v in l.split()] for l in lines[i + 1:] if l.strip()])
-    d = {c: data[:, k] for k, c in enumerate(cols)}
-    dmg = next((d[c] for c in d if "dmg" in c or "damage" in c), None)
-    if dmg is None:
-        sys.exit(f"{path}: no damage column")
-    return step, d["x"], d["y"], dmg
+    """(timestep, x, y, damage) of a dump"""
+    step, d = read_dump_columns(path)
+    return step, d["x"], d["y"], damage_column(d)
 
 
 def rayleigh_speed(E, nu, rho, plane):

@@ -17,23 +17,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 
-
-def read_dump(path):
-    """Return (timestep, dict of column -> array) of the first snapshot."""
-    with open(path) as f:
-        lines = f.readlines()
-    step = int(lines[lines.index("ITEM: TIMESTEP\n") + 1])
-    i = next(k for k, l in enumerate(lines) if l.startswith("ITEM: ATOMS"))
-    cols = lines[i].split()[2:]
-    data = np.array([[float(v) for v in l.split()] for l in lines[i + 1:] if l.strip()])
-    return step, {c: data[:, k] for k, c in enumerate(cols)}
-
-
-def damage_column(d):
-    for c in d:
-        if "dmg" in c or "damage" in c:
-            return d[c]
-    raise SystemExit("no damage column (name containing 'dmg' or 'damage') in the dump")
+from lammps_dump import damage_column, read_dump
 
 
 def main():

@@ -624,22 +624,17 @@ void FixNospdDamage::evaluate_and_break(bool apply)
         limit *= NOSPD::scatter_factor((uint64_t) scatter_seed, NOSPD::position_key(x0[a]),
                                        NOSPD::position_key(x0[c]), scatter_width);
       if (criterion == STRETCH) {
-        if (track_smin) {
-          // Silling & Askari (2005): s_0 = s_00 - alpha s_min per atom, a bond
-          // breaking at the smaller s_0 of its two ends
-          limit -= alpha * std::max(ca[4], cb[4]);
-          const double rxi = sqrt(rxi2);
-          const double s = (sqrt(ry2) - rxi) / rxi;
-          if (apply && (s >= limit || std::isnan(s))) cut.emplace_back(i, bslot[b]);
-          else if (first || s < smin) {
-            smin = s;
-            first = false;
-          }
-          continue;
+        // with alpha only (the plain criterion runs in stretch_cuts):
+        // Silling & Askari (2005), s_0 = s_00 - alpha s_min per atom, a bond
+        // breaking at the smaller s_0 of its two ends
+        limit -= alpha * std::max(ca[4], cb[4]);
+        const double rxi = sqrt(rxi2);
+        const double s = (sqrt(ry2) - rxi) / rxi;
+        if (apply && (s >= limit || std::isnan(s))) cut.emplace_back(i, bslot[b]);
+        else if (first || s < smin) {
+          smin = s;
+          first = false;
         }
-        // s >= s_c  <=>  |Y|^2 >= (1 + s_c)^2 |xi|^2, without square roots
-        const double f = 1.0 + limit;
-        if (ry2 >= f * f * rxi2 || std::isnan(ry2)) cut.emplace_back(i, bslot[b]);
         continue;
       }
       const double rxi = sqrt(rxi2);
@@ -704,13 +699,6 @@ void FixNospdDamage::stretch_cuts(std::vector<std::pair<int, int>> &cut)
   const int *_noalias const bslot = bonds->bond_slot;
   const int *type = atom->type;
   const bool periodic = domain->xperiodic || domain->yperiodic || domain->zperiodic;
-  const bool ortho = !domain->triclinic;
-  // minimum image of an orthogonal box, the operations of min_image() with
-  // the box read once (prd 0 marks a non-periodic direction)
-  const double prd[3] = {domain->xperiodic ? domain->xprd : 0.0,
-                         domain->yperiodic ? domain->yprd : 0.0,
-                         domain->zperiodic ? domain->zprd : 0.0};
-  const double half[3] = {domain->xprd_half, domain->yprd_half, domain->zprd_half};
   const bool one_type = (atom->ntypes == 1);
   const double limit1 = crit[1][1];
 
@@ -732,14 +720,7 @@ void FixNospdDamage::stretch_cuts(std::vector<std::pair<int, int>> &cut)
         continue;
       }
       double xi[3] = {x0f[3 * j] - xi0, x0f[3 * j + 1] - yi0, x0f[3 * j + 2] - zi0};
-      if (periodic) {
-        if (ortho) {
-          for (int k = 0; k < 3; k++)
-            if (prd[k] > 0.0)
-              while (fabs(xi[k]) > half[k]) xi[k] += (xi[k] < 0.0) ? prd[k] : -prd[k];
-        } else
-          min_image(domain, xi);
-      }
+      if (periodic) min_image(domain, xi);
       const double Yx = xi[0] + (cj[0] - uxi), Yy = xi[1] + (cj[1] - uyi),
                    Yz = xi[2] + (cj[2] - uzi);
       const double rxi2 = xi[0] * xi[0] + xi[1] * xi[1] + xi[2] * xi[2];
