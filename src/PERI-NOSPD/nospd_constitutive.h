@@ -9,6 +9,8 @@
 
 #include "nospd_tensor.h"
 
+#include <Eigen/Eigenvalues>
+
 namespace NOSPD {
 
 // Strain measure / law.  SMALL: P = sigma = C:eps, eps = sym(F) - I.
@@ -17,7 +19,10 @@ namespace NOSPD {
 //   P = R C:(U-I), hyperelastic in U, objective.
 // SVK: Saint Venant-Kirchhoff, P = F S, S = lambda tr(E) I + 2 mu E.
 // NEOHOOKE: compressible Neo-Hooke, S = mu (I - C^-1) + lambda ln(J) C^-1.
-enum class Law { SMALL, COROTATIONAL, SVK, NEOHOOKE };
+// HENCKY: logarithmic strain, W = lambda/2 (tr ln V)^2 + mu |ln V|^2,
+//   Kirchhoff stress tau = lambda tr(ln V) I + 2 mu ln V, P = tau F^-T;
+//   the elastic part of the finite-strain plasticity (nospd_plasticity.h).
+enum class Law { SMALL, COROTATIONAL, SVK, NEOHOOKE, HENCKY };
 
 // Out-of-plane assumption: 3D, or 2D plane strain (F33 = 1) or plane
 // stress (F33 chosen so that P33 = 0).
@@ -77,8 +82,53 @@ inline bool first_piola_3d(Law law, const Lame &m, const Mat3 &F, Mat3 &P, doubl
       W = 0.5 * m.mu * (C.trace() - 3.0) - m.mu * lnJ + 0.5 * m.lambda * lnJ * lnJ;
       return true;
     }
+    case Law::HENCKY: {
+      if (!(F.determinant() > 0.0)) return false;
+      // ln V from the eigenpairs of b = F F^T; tau is coaxial with V
+      const Mat3 b = F * F.transpose();
+      Eigen::SelfAdjointEigenSolver<Mat3> eig(0.5 * (b + b.transpose()));
+      if (eig.info() != Eigen::Success || !(eig.eigenvalues().minCoeff() > 0.0)) return false;
+      Vec3 e;
+      for (int a = 0; a < 3; ++a) e(a) = 0.5 * std::log(eig.eigenvalues()(a));
+      const double tr = e.sum();
+      const Vec3 tau = (m.lambda * tr) * Vec3::Ones() + 2.0 * m.mu * e;
+      const Mat3 &N = eig.eigenvectors();
+      P = N * tau.asDiagonal() * N.transpose() * F.inverse().transpose();
+      W = 0.5 * m.lambda * tr * tr + m.mu * e.squaredNorm();
+      return true;
+    }
   }
   return false;
+}
+
+/* Plane stress for any 3D point law eval(F, P, W) -> bool: F(2,2) is solved
+   for so that P33 = 0 by a secant iteration started from the small-strain
+   answer eps33 = -lambda/(lambda+2mu) (eps11+eps22), and written back into
+   F so that stress output sees it. */
+template <class Eval>
+inline bool solve_plane_stress(const Lame &m, Mat3 &F, Mat3 &P, double &W, Eval eval)
+{
+  const double r = m.lambda / (m.lambda + 2.0 * m.mu);
+  F(2, 2) = 1.0 - r * (F(0, 0) + F(1, 1) - 2.0);
+  if (!eval(F, P, W)) return false;
+
+  const double scale = m.lambda + 2.0 * m.mu;
+  double s0 = F(2, 2), p0 = P(2, 2);
+  double s1 = s0 * (1.0 - 1e-6), p1;
+  F(2, 2) = s1;
+  if (!eval(F, P, W)) return false;
+  p1 = P(2, 2);
+  for (int it = 0; it < 60 && std::abs(p1) > 1e-13 * scale; ++it) {
+    if (p1 == p0) break;
+    const double s2 = s1 - p1 * (s1 - s0) / (p1 - p0);
+    s0 = s1;
+    p0 = p1;
+    s1 = s2;
+    F(2, 2) = s1;
+    if (!eval(F, P, W)) return false;
+    p1 = P(2, 2);
+  }
+  return true;
 }
 
 /* P(F) under the plane assumption.  F arrives with its in-plane block set
@@ -102,28 +152,9 @@ inline bool first_piola(Law law, Plane plane, const Lame &m, Mat3 &F, Mat3 &P, d
     return true;
   }
 
-  // start from the small-strain answer: eps33 = -lambda/(lambda+2mu) (eps11+eps22)
-  const double r = m.lambda / (m.lambda + 2.0 * m.mu);
-  F(2, 2) = 1.0 - r * (F(0, 0) + F(1, 1) - 2.0);
-  if (!first_piola_3d(law, m, F, P, W)) return false;
-
-  const double scale = m.lambda + 2.0 * m.mu;
-  double s0 = F(2, 2), p0 = P(2, 2);
-  double s1 = s0 * (1.0 - 1e-6), p1;
-  F(2, 2) = s1;
-  if (!first_piola_3d(law, m, F, P, W)) return false;
-  p1 = P(2, 2);
-  for (int it = 0; it < 40 && std::abs(p1) > 1e-13 * scale; ++it) {
-    if (p1 == p0) break;
-    const double s2 = s1 - p1 * (s1 - s0) / (p1 - p0);
-    s0 = s1;
-    p0 = p1;
-    s1 = s2;
-    F(2, 2) = s1;
-    if (!first_piola_3d(law, m, F, P, W)) return false;
-    p1 = P(2, 2);
-  }
-  return true;
+  return solve_plane_stress(m, F, P, W, [&](const Mat3 &Ft, Mat3 &Pt, double &Wt) {
+    return first_piola_3d(law, m, Ft, Pt, Wt);
+  });
 }
 
 // Cauchy stress from P: sigma = P F^T / J (small strain: sigma = P).

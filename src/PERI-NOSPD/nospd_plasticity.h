@@ -1,0 +1,363 @@
+/* -*- c++ -*- ----------------------------------------------------------
+   PERI-NOSPD: correspondence peridynamics for LAMMPS.
+   Inelastic material points: J2 (von Mises) plasticity with isotropic
+   (linear, power-law, Johnson-Cook) and linear kinematic hardening,
+   thermal eigenstrain, adiabatic heating and Johnson-Cook failure.
+   Knows nothing of LAMMPS.
+
+   Two kinematic settings share one radial return:
+   - SMALL: additive split eps = eps_e + eps_p + eps_th, eps = sym(F) - I,
+     P = sigma (the package's small-strain convention);
+   - HENCKY: multiplicative F = F_e F_th F_p with a logarithmic elastic
+     strain (Simo 1992; de Souza Neto, Peric & Owen 2008, ch. 14).  The
+     return runs in the principal frame of the trial elastic left
+     Cauchy-Green tensor b_e = F C_p^-1 F^T, so the model is objective by
+     construction and reduces to the Hencky hyperelastic law while elastic.
+
+   The return is backward Euler; the flow stress of the increment is
+   sigma_y(a_n + da, da/dt, T_n): temperature and history of the start of
+   the step (isothermal split), the rate of the increment itself.
+
+   Energy: the stored energy W_e(eps_e) goes to pe.  The plastic work of the
+   increment is the increment of the incremental potential,
+       dD = int_{a_n}^{a_n+da} sigma_y da' + dpsi_kin,
+   whose derivative with respect to the strain is the returned stress: the
+   force on a body is then minus the gradient of sum V (W_e + dD) with the
+   history of the step frozen, so velocity Verlet conserves ke + pe + D to
+   the same order as it conserves an elastic body's energy, and minimize
+   sees a consistent energy (the closest-point return is the minimizer).
+------------------------------------------------------------------------- */
+
+#ifndef NOSPD_PLASTICITY_H
+#define NOSPD_PLASTICITY_H
+
+#include "nospd_constitutive.h"
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+
+namespace NOSPD {
+
+// Per-point history: all zero is the virgin state.
+namespace Hist {
+  constexpr int PLASTIC = 0;    // 6: eps_p (SMALL) or C_p^-1 - I (HENCKY): xx yy zz xy xz yz
+  constexpr int EQPS = 6;       // equivalent plastic strain
+  constexpr int BACK = 7;       // 6: back stress (SMALL, kinematic hardening)
+  constexpr int WORK = 13;      // plastic work per unit reference volume
+  constexpr int HEAT = 14;      // temperature rise from adiabatic heating
+  constexpr int DAMAGE = 15;    // Johnson-Cook damage sum(d eps_p / eps_f)
+  constexpr int YIELDING = 16;  // 1 if the last accepted increment yielded
+  constexpr int SIZE = 17;
+}    // namespace Hist
+
+enum class Hardening { LINEAR, POWER, JOHNSON_COOK };
+
+// Flow stress sigma_y(a, rate, T) and its derivatives.
+struct FlowLaw {
+  bool active = false;
+  Hardening kind = Hardening::LINEAR;
+  double sigma_y0 = 0.0;    // initial yield (LINEAR, POWER); A (JOHNSON_COOK)
+  double H = 0.0;           // LINEAR: sigma_y0 + H a
+  double K = 0.0, n = 1.0;  // POWER: sigma_y0 + K a^n;  JOHNSON_COOK: B = K, n
+  double Hkin = 0.0;        // linear kinematic (Prager) modulus, SMALL only
+  double C = 0.0, rate0 = 1.0, m = 1.0, T_ref = 293.0, T_melt = 1.0e300;    // Johnson-Cook
+
+  // Johnson-Cook homologous temperature, clamped to [0, 1]
+  double homologous(double T) const
+  {
+    if (kind != Hardening::JOHNSON_COOK) return 0.0;
+    return std::min(1.0, std::max(0.0, (T - T_ref) / (T_melt - T_ref)));
+  }
+
+  // strain part of the flow stress and its slope d/da
+  double hardening(double a, double &slope) const
+  {
+    switch (kind) {
+      case Hardening::LINEAR:
+        slope = H;
+        return sigma_y0 + H * a;
+      case Hardening::POWER:
+      case Hardening::JOHNSON_COOK:
+        if (a <= 0.0) {
+          slope = (n < 1.0) ? 1.0e300 : (n == 1.0 ? K : 0.0);
+          return sigma_y0;
+        }
+        slope = K * n * std::pow(a, n - 1.0);
+        return sigma_y0 + K * std::pow(a, n);
+    }
+    slope = 0.0;
+    return sigma_y0;
+  }
+
+  // rate factor 1 + C ln(rate/rate0), 1 below the reference rate
+  double rate_factor(double rate, double &slope) const
+  {
+    slope = 0.0;
+    if (kind != Hardening::JOHNSON_COOK || C == 0.0 || !(rate > rate0)) return 1.0;
+    slope = C / rate;
+    return 1.0 + C * std::log(rate / rate0);
+  }
+
+  double thermal_factor(double T) const
+  {
+    if (kind != Hardening::JOHNSON_COOK) return 1.0;
+    const double Ts = homologous(T);
+    return Ts > 0.0 ? 1.0 - std::pow(Ts, m) : 1.0;
+  }
+
+  // sigma_y(a_n + d, d/dt, T) and d sigma_y / d d
+  double flow(double a_n, double d, double dt, double T, double &slope) const
+  {
+    double sh, sr;
+    const double h = hardening(a_n + d, sh);
+    const double rate = dt > 0.0 ? d / dt : 0.0;
+    const double r = rate_factor(rate, sr);
+    const double th = thermal_factor(T);
+    slope = th * (sh * r + h * sr / (dt > 0.0 ? dt : 1.0));
+    return th * h * r;
+  }
+
+  // int_0^d sigma_y(a_n + s, s/dt, T) ds: closed form without a rate
+  // term; otherwise Gauss-Legendre in t with s = d t^2, which smooths the
+  // a^n and log singularities at s = 0
+  double work(double a_n, double d, double dt, double T) const
+  {
+    if (d <= 0.0) return 0.0;
+    const double th = thermal_factor(T);
+    const bool rate_term = (kind == Hardening::JOHNSON_COOK && C != 0.0 && dt > 0.0);
+    if (!rate_term) {
+      if (kind == Hardening::LINEAR) return th * (sigma_y0 * d + H * (a_n * d + 0.5 * d * d));
+      const double a1 = a_n + d;
+      return th * (sigma_y0 * d + K / (n + 1.0) * (std::pow(a1, n + 1.0) - std::pow(a_n, n + 1.0)));
+    }
+    static const double gx[8] = {-0.9602898564975363, -0.7966664774136267, -0.5255324099163290,
+                                 -0.1834346424956498, 0.1834346424956498,  0.5255324099163290,
+                                 0.7966664774136267,  0.9602898564975363};
+    static const double gw[8] = {0.1012285362903763, 0.2223810344533745, 0.3137066458778873,
+                                 0.3626837833783620, 0.3626837833783620, 0.3137066458778873,
+                                 0.2223810344533745, 0.1012285362903763};
+    double sum = 0.0, dummy;
+    for (int q = 0; q < 8; ++q) {
+      const double t = 0.5 * (gx[q] + 1.0);
+      const double s = d * t * t;
+      sum += 0.5 * gw[q] * 2.0 * d * t * flow(a_n, s, dt, T, dummy);
+    }
+    return sum;
+  }
+};
+
+// Thermal expansion, adiabatic heating and Johnson-Cook failure of a type.
+struct ThermalLaw {
+  double alpha = 0.0;      // linear expansion coefficient
+  double T_ref = 293.0;    // temperature of zero thermal strain
+  double cp = 0.0;         // specific heat; 0: no adiabatic heating
+  double chi = 0.9;        // Taylor-Quinney fraction
+  bool failure = false;    // Johnson-Cook failure model
+  double D[5] = {0.0, 0.0, 0.0, 0.0, 0.0};
+};
+
+// What the point needs from its surroundings.
+struct PointEnv {
+  double dt = 0.0;        // time step of the increment (rate term)
+  double T_base = 0.0;    // temperature set by the user (adiabatic rise is added)
+  double rho = 0.0;       // mass density (heating)
+};
+
+enum class ReturnStatus { OK, NO_CONVERGENCE, BAD_DEFORMATION };
+
+namespace detail {
+
+  inline Mat3 sym_from6(const double *v)
+  {
+    Mat3 m;
+    m << v[0], v[3], v[4], v[3], v[1], v[5], v[4], v[5], v[2];
+    return m;
+  }
+  inline void sym_to6(const Mat3 &m, double *v)
+  {
+    v[0] = m(0, 0);
+    v[1] = m(1, 1);
+    v[2] = m(2, 2);
+    v[3] = 0.5 * (m(0, 1) + m(1, 0));
+    v[4] = 0.5 * (m(0, 2) + m(2, 0));
+    v[5] = 0.5 * (m(1, 2) + m(2, 1));
+  }
+
+  /* Radial return of the deviatoric trial stress eta = s_trial - beta_n:
+     solves q - (3 mu + Hkin) d - sigma_y(a_n + d) = 0 for d >= 0 by
+     Newton's method kept inside a shrinking bracket [lo, hi].  Returns
+     false if it does not converge. */
+  inline bool solve_return(const FlowLaw &fl, double mu, double q, double a_n, double dt,
+                           double T, double &d)
+  {
+    const double g3 = 3.0 * mu + fl.Hkin;
+    double lo = 0.0, hi = q / g3;    // r(lo) > 0 >= r(hi) since sigma_y >= 0
+    if (fl.kind == Hardening::LINEAR) {
+      const double th = fl.thermal_factor(T);
+      double s;
+      const double f = q - th * fl.hardening(a_n, s);
+      d = f / (g3 + th * fl.H);
+      return std::isfinite(d);
+    }
+    const double scale = std::max(q, 1.0e-300);
+    d = 0.5 * hi;
+    for (int it = 0; it < 200; ++it) {
+      double slope;
+      const double r = q - g3 * d - fl.flow(a_n, d, dt, T, slope);
+      if (std::abs(r) <= 1.0e-14 * scale || (hi - lo) <= 1.0e-16 * hi) return true;
+      if (r > 0.0) lo = d;
+      else hi = d;
+      const double dr = -g3 - slope;
+      double next = (std::isfinite(dr) && dr < 0.0) ? d - r / dr : 0.5 * (lo + hi);
+      if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
+      d = next;
+    }
+    return false;
+  }
+
+  // Johnson-Cook failure strain at triaxiality sstar, rate and temperature
+  inline double failure_strain(const ThermalLaw &th, const FlowLaw &fl, double sstar,
+                               double rate, double T)
+  {
+    const double *D = th.D;
+    double ef = D[0] + D[1] * std::exp(D[2] * sstar);
+    const double rs = (fl.rate0 > 0.0) ? rate / fl.rate0 : 0.0;
+    if (rs > 1.0) ef *= 1.0 + D[3] * std::log(rs);
+    if (fl.kind == Hardening::JOHNSON_COOK) ef *= 1.0 + D[4] * fl.homologous(T);
+    return std::max(ef, 1.0e-12);
+  }
+
+  /* The common part of both kinematic settings: given the trial elastic
+     strain e (tensor; for HENCKY a diagonal tensor of principal log
+     strains), return the elastic strain, stress (Cauchy for SMALL,
+     Kirchhoff for HENCKY), the plastic increment and the history. */
+  inline bool return_map(const Lame &m, const FlowLaw &fl, const ThermalLaw &th,
+                         const PointEnv &env, const double *hn, double *h1, Mat3 &e,
+                         Mat3 &stress, Mat3 &dep, double &W)
+  {
+    const Mat3 I = Mat3::Identity();
+    const double T = env.T_base + hn[Hist::HEAT];
+    double tr = e.trace();
+    stress = m.lambda * tr * I + 2.0 * m.mu * e;
+    dep.setZero();
+    h1[Hist::YIELDING] = 0.0;
+    if (fl.active) {
+      const Mat3 beta = sym_from6(hn + Hist::BACK);
+      const Mat3 eta = stress - (stress.trace() / 3.0) * I - beta;
+      const double norm = eta.norm();
+      const double q = std::sqrt(1.5) * norm;
+      const double a_n = hn[Hist::EQPS];
+      double s0;
+      const double sy = fl.thermal_factor(T) * fl.hardening(a_n, s0);
+      if (q > sy && norm > 0.0) {
+        double d = 0.0;
+        if (!solve_return(fl, m.mu, q, a_n, env.dt, T, d) || !(d >= 0.0)) return false;
+        const Mat3 N = (1.5 / q) * eta;    // flow direction, dep = d N, |N| = sqrt(3/2)
+        dep = d * N;
+        e -= dep;
+        stress -= 2.0 * m.mu * dep;
+        const Mat3 beta1 = beta + (2.0 / 3.0) * fl.Hkin * dep;
+        sym_to6(beta1, h1 + Hist::BACK);
+        h1[Hist::EQPS] = a_n + d;
+        h1[Hist::YIELDING] = 1.0;
+        // plastic work: flow-stress integral plus the change of the
+        // kinematic stored energy (3/4) |beta|^2 / Hkin
+        double dD = fl.work(a_n, d, env.dt, T);
+        if (fl.Hkin > 0.0)
+          dD += 0.75 * (beta1.squaredNorm() - beta.squaredNorm()) / fl.Hkin;
+        h1[Hist::WORK] = hn[Hist::WORK] + dD;
+        if (th.cp > 0.0 && env.rho > 0.0)
+          h1[Hist::HEAT] = hn[Hist::HEAT] + th.chi * dD / (env.rho * th.cp);
+        if (th.failure) {
+          const double seq = von_mises(stress);
+          const double sstar = seq > 0.0 ? stress.trace() / (3.0 * seq) : 0.0;
+          const double rate = env.dt > 0.0 ? d / env.dt : 0.0;
+          h1[Hist::DAMAGE] = hn[Hist::DAMAGE] + d / failure_strain(th, fl, sstar, rate, T);
+        }
+      }
+    }
+    tr = e.trace();
+    W = 0.5 * m.lambda * tr * tr + m.mu * e.squaredNorm();
+    return std::isfinite(W);
+  }
+
+}    // namespace detail
+
+/* One material point in 3D: P and the stored energy W_e from F and the
+   history of the start of the step hn; writes the history of the end of
+   the step to h1 (hn is never modified, so trial evaluations repeat
+   exactly).  law is SMALL or HENCKY. */
+inline ReturnStatus inelastic_point_3d(Law law, const Lame &m, const FlowLaw &fl,
+                                       const ThermalLaw &th, const PointEnv &env, const Mat3 &F,
+                                       const double *hn, double *h1, Mat3 &P, double &W)
+{
+  const Mat3 I = Mat3::Identity();
+  for (int k = 0; k < Hist::SIZE; ++k) h1[k] = hn[k];
+  const double T = env.T_base + hn[Hist::HEAT];
+  const double eth = th.alpha * (T - th.T_ref);
+
+  if (law == Law::SMALL) {
+    const Mat3 eps = 0.5 * (F + F.transpose()) - I;
+    const Mat3 ep_n = detail::sym_from6(hn + Hist::PLASTIC);
+    Mat3 e = eps - ep_n - eth * I;
+    Mat3 sigma, dep;
+    if (!detail::return_map(m, fl, th, env, hn, h1, e, sigma, dep, W))
+      return ReturnStatus::NO_CONVERGENCE;
+    detail::sym_to6(ep_n + dep, h1 + Hist::PLASTIC);
+    P = sigma;
+    return ReturnStatus::OK;
+  }
+
+  // HENCKY: trial b_e = F C_p^-1 F^T in its principal frame
+  const double J = F.determinant();
+  if (!(J > 0.0) || !F.allFinite()) return ReturnStatus::BAD_DEFORMATION;
+  const Mat3 Cpinv = I + detail::sym_from6(hn + Hist::PLASTIC);
+  const Mat3 be = F * Cpinv * F.transpose();
+  Eigen::SelfAdjointEigenSolver<Mat3> eig(0.5 * (be + be.transpose()));
+  if (eig.info() != Eigen::Success) return ReturnStatus::BAD_DEFORMATION;
+  const Vec3 lam2 = eig.eigenvalues();
+  if (!(lam2.minCoeff() > 0.0)) return ReturnStatus::BAD_DEFORMATION;
+  const Mat3 &Nv = eig.eigenvectors();
+  const double lth = std::log1p(eth);    // log of the thermal stretch 1 + alpha dT
+  Mat3 e = Mat3::Zero();
+  for (int a = 0; a < 3; ++a) e(a, a) = 0.5 * std::log(lam2(a)) - lth;
+  Mat3 tau, dep;
+  if (!detail::return_map(m, fl, th, env, hn, h1, e, tau, dep, W))
+    return ReturnStatus::NO_CONVERGENCE;
+  // tau and e stay diagonal in the principal frame (the flow is coaxial)
+  Mat3 tau_s = Mat3::Zero(), be1 = Mat3::Zero();
+  for (int a = 0; a < 3; ++a) {
+    tau_s(a, a) = tau(a, a);
+    be1(a, a) = std::exp(2.0 * (e(a, a) + lth));
+  }
+  const Mat3 tau_g = Nv * tau_s * Nv.transpose();
+  const Mat3 Finv = F.inverse();
+  P = tau_g * Finv.transpose();
+  if (fl.active && h1[Hist::YIELDING] > 0.0) {
+    const Mat3 be1_g = Nv * be1 * Nv.transpose();
+    detail::sym_to6(Finv * be1_g * Finv.transpose() - I, h1 + Hist::PLASTIC);
+  }
+  return P.allFinite() ? ReturnStatus::OK : ReturnStatus::BAD_DEFORMATION;
+}
+
+/* The same under the plane assumption (plane stress solves F33 for P33 = 0
+   with the history of the step start, as the elastic laws do). */
+inline ReturnStatus inelastic_point(Law law, Plane plane, const Lame &m, const FlowLaw &fl,
+                                    const ThermalLaw &th, const PointEnv &env, Mat3 &F,
+                                    const double *hn, double *h1, Mat3 &P, double &W)
+{
+  if (plane != Plane::STRESS) return inelastic_point_3d(law, m, fl, th, env, F, hn, h1, P, W);
+  ReturnStatus st = ReturnStatus::OK;
+  auto eval = [&](const Mat3 &Ft, Mat3 &Pt, double &Wt) {
+    st = inelastic_point_3d(law, m, fl, th, env, Ft, hn, h1, Pt, Wt);
+    return st == ReturnStatus::OK;
+  };
+  if (!solve_plane_stress(m, F, P, W, eval))
+    return st == ReturnStatus::OK ? ReturnStatus::NO_CONVERGENCE : st;
+  return ReturnStatus::OK;
+}
+
+}    // namespace NOSPD
+
+#endif

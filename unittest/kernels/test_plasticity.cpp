@@ -1,0 +1,367 @@
+/* ----------------------------------------------------------------------
+   PERI-NOSPD: unit tests of the inelastic material point
+   (nospd_plasticity.h) on one point, without LAMMPS.
+
+   Expectations come from closed forms of J2 plasticity under uniaxial
+   stress (elastic slope E, plastic slope E H/(E + H), reverse yield after
+   isotropic or kinematic hardening), from the definition of the
+   incremental potential (P = d(W_e + dD)/dF by central differences), from
+   frame indifference and from free and clamped thermal expansion.
+------------------------------------------------------------------------- */
+
+#include "nospd_plasticity.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <vector>
+
+using namespace NOSPD;
+
+namespace {
+
+constexpr double E = 200.0e9, NU = 0.3, SY = 250.0e6;
+
+struct Point {
+  Law law;
+  Lame m = Lame::from_young(E, NU);
+  FlowLaw fl;
+  ThermalLaw th;
+  PointEnv env;
+  std::vector<double> h = std::vector<double>(Hist::SIZE, 0.0);
+
+  // one increment to F; the history is committed when commit is set
+  Mat3 step(const Mat3 &F, double &W, bool commit = true)
+  {
+    std::vector<double> h1(Hist::SIZE);
+    Mat3 P;
+    EXPECT_EQ(inelastic_point_3d(law, m, fl, th, env, F, h.data(), h1.data(), P, W),
+              ReturnStatus::OK);
+    if (commit) h = h1;
+    return P;
+  }
+};
+
+// axial stress measure: Cauchy (SMALL) or Kirchhoff (HENCKY) and its strain
+Mat3 axial_F(Law law, double e1, double e2)
+{
+  Mat3 F = Mat3::Identity();
+  if (law == Law::SMALL) {
+    F(0, 0) += e1;
+    F(1, 1) += e2;
+    F(2, 2) += e2;
+  } else {
+    F(0, 0) = std::exp(e1);
+    F(1, 1) = F(2, 2) = std::exp(e2);
+  }
+  return F;
+}
+
+Mat3 stress_measure(Law law, const Mat3 &F, const Mat3 &P)
+{
+  return law == Law::SMALL ? P : Mat3(P * F.transpose());
+}
+
+/* Uniaxial stress at axial strain e1: the lateral strain is solved so that
+   the lateral stress vanishes (secant; the lateral stress is piecewise
+   linear in it, so a few steps are exact), then the step is committed. */
+double uniaxial(Point &pt, double e1, double &e2)
+{
+  auto lateral = [&](double x) {
+    double W;
+    const Mat3 F = axial_F(pt.law, e1, x);
+    return stress_measure(pt.law, F, pt.step(F, W, false))(1, 1);
+  };
+  double x0 = e2, x1 = e2 - 1e-4 * (std::abs(e1) + 1e-6);
+  double g0 = lateral(x0), g1 = lateral(x1);
+  for (int it = 0; it < 100 && std::abs(g1) > 1e-6 && g1 != g0; ++it) {
+    const double x2 = x1 - g1 * (x1 - x0) / (g1 - g0);
+    x0 = x1;
+    g0 = g1;
+    x1 = x2;
+    g1 = lateral(x1);
+  }
+  e2 = x1;
+  double W;
+  const Mat3 F = axial_F(pt.law, e1, e2);
+  return stress_measure(pt.law, F, pt.step(F, W))(0, 0);
+}
+
+// The closed-form uniaxial J2 curve for linear isotropic (H) and kinematic
+// (Hk) hardening along a strain path, as a small state machine.
+struct UniaxialCurve {
+  double H, Hk;
+  double eps_p = 0.0, alpha = 0.0, back = 0.0;    // axial plastic strain, eqps, axial back stress
+  double stress(double eps)
+  {
+    const double trial = E * (eps - eps_p);
+    const double xi = trial - back;
+    const double f = std::abs(xi) - (SY + H * alpha);
+    if (f <= 0.0) return trial;
+    const double d = f / (E + H + Hk);
+    const double sgn = xi > 0.0 ? 1.0 : -1.0;
+    eps_p += sgn * d;
+    alpha += d;
+    back += sgn * Hk * d;
+    return E * (eps - eps_p);
+  }
+};
+
+void check_uniaxial_curve(Law law, double H, double Hk)
+{
+  Point pt{law};
+  pt.fl.active = true;
+  pt.fl.kind = Hardening::LINEAR;
+  pt.fl.sigma_y0 = SY;
+  pt.fl.H = H;
+  pt.fl.Hkin = Hk;
+  UniaxialCurve ref{H, Hk};
+  const double ey = SY / E;
+  // load to 4 ey, unload and reverse to -4 ey, reload to 6 ey
+  std::vector<double> path;
+  for (int k = 1; k <= 40; ++k) path.push_back(0.1 * k * ey);
+  for (int k = 1; k <= 80; ++k) path.push_back(4.0 * ey - 0.1 * k * ey);
+  for (int k = 1; k <= 100; ++k) path.push_back(-4.0 * ey + 0.1 * k * ey);
+  double e2 = 0.0, worst = 0.0;
+  bool yielded_back = false;
+  for (double e1 : path) {
+    const double s = uniaxial(pt, e1, e2);
+    const double r = ref.stress(e1);
+    worst = std::max(worst, std::abs(s - r) / SY);
+    if (e1 < 0.0 && pt.h[Hist::YIELDING] > 0.0) yielded_back = true;
+  }
+  EXPECT_LT(worst, 1e-10) << "uniaxial curve, H = " << H << ", Hk = " << Hk;
+  EXPECT_TRUE(yielded_back) << "the reverse path must yield";
+  EXPECT_NEAR(pt.h[Hist::EQPS], ref.alpha, 1e-10 * ref.alpha);
+}
+
+TEST(Plasticity, UniaxialLinearIsotropicSmall) { check_uniaxial_curve(Law::SMALL, 2.0e9, 0.0); }
+TEST(Plasticity, UniaxialKinematicSmall) { check_uniaxial_curve(Law::SMALL, 0.0, 5.0e9); }
+TEST(Plasticity, UniaxialMixedSmall) { check_uniaxial_curve(Law::SMALL, 1.0e9, 3.0e9); }
+TEST(Plasticity, UniaxialPerfectlyPlasticSmall) { check_uniaxial_curve(Law::SMALL, 0.0, 0.0); }
+// in log strain and Kirchhoff stress the finite-strain return is the same curve
+TEST(Plasticity, UniaxialLinearIsotropicHencky) { check_uniaxial_curve(Law::HENCKY, 2.0e9, 0.0); }
+
+// Power-law hardening: on the monotonic curve sigma = sigma_y(eqps) and the
+// axial strain splits into sigma/E + eqps.
+TEST(Plasticity, UniaxialPowerLaw)
+{
+  for (Law law : {Law::SMALL, Law::HENCKY}) {
+    Point pt{law};
+    pt.fl.active = true;
+    pt.fl.kind = Hardening::POWER;
+    pt.fl.sigma_y0 = SY;
+    pt.fl.K = 500e6;
+    pt.fl.n = 0.3;
+    double e2 = 0.0;
+    int plastic = 0;
+    for (int k = 1; k <= 60; ++k) {
+      const double e1 = 0.001 * k;
+      const double s = uniaxial(pt, e1, e2);
+      const double a = pt.h[Hist::EQPS];
+      if (a > 0.0) {
+        plastic++;
+        EXPECT_NEAR(s, SY + 500e6 * std::pow(a, 0.3), 1e-10 * s);
+        EXPECT_NEAR(e1, s / E + a, 1e-10 * e1);
+      }
+    }
+    EXPECT_GT(plastic, 50);
+  }
+}
+
+// Johnson-Cook at a constant strain rate: the stress is the flow stress at
+// the increment's plastic rate, temperature softening included.
+TEST(Plasticity, JohnsonCookRateAndTemperature)
+{
+  Point pt{Law::SMALL};
+  pt.fl.active = true;
+  pt.fl.kind = Hardening::JOHNSON_COOK;
+  pt.fl.sigma_y0 = 90e6;
+  pt.fl.K = 292e6;
+  pt.fl.n = 0.31;
+  pt.fl.C = 0.025;
+  pt.fl.rate0 = 1.0;
+  pt.fl.m = 1.09;
+  pt.fl.T_ref = 298.0;
+  pt.fl.T_melt = 1356.0;
+  pt.env.dt = 1e-6;    // 1e-3 strain per step: rate 1e3 /s
+  pt.env.T_base = 500.0;
+  double e2 = 0.0, prev_a = 0.0;
+  int plastic = 0;
+  for (int k = 1; k <= 50; ++k) {
+    const double s = uniaxial(pt, 0.001 * k, e2);
+    const double a = pt.h[Hist::EQPS];
+    if (a > 0.0 && prev_a > 0.0) {
+      plastic++;
+      const double rate = (a - prev_a) / pt.env.dt;
+      const double Ts = (500.0 - 298.0) / (1356.0 - 298.0);
+      const double sy = (90e6 + 292e6 * std::pow(a, 0.31)) * (1.0 + 0.025 * std::log(rate)) *
+          (1.0 - std::pow(Ts, 1.09));
+      EXPECT_NEAR(s, sy, 1e-10 * sy);
+    }
+    prev_a = a;
+  }
+  EXPECT_GT(plastic, 40);
+}
+
+/* The returned P is the gradient of the incremental potential
+   W_e(F) + dD(F) at frozen start-of-step history: central differences on
+   a general (non-uniaxial) plastic increment, for every flow law. */
+TEST(Plasticity, StressIsIncrementalPotentialGradient)
+{
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> U(-1.0, 1.0);
+  for (Law law : {Law::SMALL, Law::HENCKY}) {
+    for (int kind = 0; kind < 4; ++kind) {
+      Point pt{law};
+      pt.fl.active = true;
+      pt.fl.sigma_y0 = SY;
+      if (kind == 0) { pt.fl.kind = Hardening::LINEAR; pt.fl.H = 2e9; }
+      if (kind == 1) { pt.fl.kind = Hardening::POWER; pt.fl.K = 400e6; pt.fl.n = 0.4; }
+      if (kind == 2) {
+        pt.fl.kind = Hardening::JOHNSON_COOK; pt.fl.K = 400e6; pt.fl.n = 0.4; pt.fl.C = 0.03;
+        pt.fl.T_melt = 1500.0; pt.fl.m = 1.0; pt.env.T_base = 400.0; pt.env.dt = 1e-7;
+      }
+      if (kind == 3) {
+        if (law == Law::HENCKY) continue;
+        pt.fl.kind = Hardening::LINEAR; pt.fl.H = 1e9; pt.fl.Hkin = 4e9;
+      }
+      // a plastic pre-strain, committed
+      Mat3 G;
+      for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c) G(r, c) = 0.004 * U(rng);
+      double W;
+      pt.step(Mat3::Identity() + G, W);
+      ASSERT_GT(pt.h[Hist::EQPS], 0.0);
+      // a further plastic increment: compare P with -d/dF of W_e + dD
+      Mat3 F = Mat3::Identity() + 2.0 * G;
+      for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c) F(r, c) += 0.001 * U(rng);
+      const Mat3 P = pt.step(F, W, false);
+      auto potential = [&](const Mat3 &Ft) {
+        std::vector<double> h1(Hist::SIZE);
+        Mat3 Pt;
+        double Wt;
+        inelastic_point_3d(law, pt.m, pt.fl, pt.th, pt.env, Ft, pt.h.data(), h1.data(), Pt, Wt);
+        return Wt + h1[Hist::WORK] - pt.h[Hist::WORK];
+      };
+      const double h = 1e-7;
+      double worst = 0.0;
+      for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c) {
+          Mat3 Fp = F, Fm = F;
+          Fp(r, c) += h;
+          Fm(r, c) -= h;
+          const double d = (potential(Fp) - potential(Fm)) / (2.0 * h);
+          // small strain: W depends on sym(F) only, P = sigma is symmetric
+          worst = std::max(worst, std::abs(d - P(r, c)));
+        }
+      EXPECT_LT(worst, 1e-5 * P.cwiseAbs().maxCoeff())
+          << "law " << static_cast<int>(law) << " hardening " << kind;
+    }
+  }
+}
+
+// Objectivity of the finite-strain return: Q F gives Q P, the same stored
+// energy and the same history, after plastic flow.
+TEST(Plasticity, HenckyObjectivity)
+{
+  Point pt{Law::HENCKY};
+  pt.fl.active = true;
+  pt.fl.sigma_y0 = SY;
+  pt.fl.H = 1e9;
+  Mat3 F;
+  F << 1.02, 0.03, -0.01, 0.005, 0.985, 0.02, -0.01, 0.01, 1.004;
+  double W;
+  pt.step(F, W);
+  ASSERT_GT(pt.h[Hist::EQPS], 0.0);
+  Mat3 F2 = F;
+  F2(0, 1) += 0.01;
+  F2(1, 1) -= 0.005;
+  std::vector<double> h1(Hist::SIZE), h2(Hist::SIZE);
+  Mat3 P1, P2;
+  double W1, W2;
+  ASSERT_EQ(inelastic_point_3d(Law::HENCKY, pt.m, pt.fl, pt.th, pt.env, F2, pt.h.data(),
+                               h1.data(), P1, W1), ReturnStatus::OK);
+  const Mat3 Q = Eigen::AngleAxisd(1.1, Vec3(0.3, -0.5, 0.8).normalized()).toRotationMatrix();
+  ASSERT_EQ(inelastic_point_3d(Law::HENCKY, pt.m, pt.fl, pt.th, pt.env, Q * F2, pt.h.data(),
+                               h2.data(), P2, W2), ReturnStatus::OK);
+  EXPECT_LT((P2 - Q * P1).cwiseAbs().maxCoeff(), 1e-9 * P1.cwiseAbs().maxCoeff());
+  EXPECT_NEAR(W1, W2, 1e-12 * W1);
+  for (int k = 0; k < Hist::SIZE; ++k) EXPECT_NEAR(h1[k], h2[k], 1e-12 * (1.0 + std::abs(h1[k])));
+  // the elastic Hencky law is the same point without a flow law
+  pt.fl.active = false;
+  Mat3 Pe;
+  double We;
+  ASSERT_TRUE(first_piola_3d(Law::HENCKY, pt.m, F2, Pe, We));
+  std::vector<double> h0(Hist::SIZE, 0.0), h3(Hist::SIZE);
+  inelastic_point_3d(Law::HENCKY, pt.m, pt.fl, pt.th, pt.env, F2, h0.data(), h3.data(), P1, W1);
+  EXPECT_LT((P1 - Pe).cwiseAbs().maxCoeff(), 1e-12 * Pe.cwiseAbs().maxCoeff());
+}
+
+// A free heated point is stress free; a clamped one carries
+// -3 K alpha dT on the diagonal.
+TEST(Plasticity, ThermalStrain)
+{
+  for (Law law : {Law::SMALL, Law::HENCKY}) {
+    Point pt{law};
+    pt.th.alpha = 1.2e-5;
+    pt.th.T_ref = 293.0;
+    pt.env.T_base = 493.0;
+    const double eth = 1.2e-5 * 200.0;
+    double W;
+    const Mat3 Pfree = pt.step((1.0 + eth) * Mat3::Identity(), W);
+    EXPECT_LT(Pfree.cwiseAbs().maxCoeff(), 1e-12 * E * eth);
+    EXPECT_LT(std::abs(W), 1e-20 * E);
+    const Mat3 Pc = pt.step(Mat3::Identity(), W);
+    const double expect = -E * eth / (1.0 - 2.0 * NU);
+    // small strain: exact; Hencky: log(1 + eth) instead of eth
+    const double exact = law == Law::SMALL ? expect : -E * std::log1p(eth) / (1.0 - 2.0 * NU);
+    for (int a = 0; a < 3; ++a) EXPECT_NEAR(Pc(a, a), exact, 1e-12 * std::abs(expect));
+    EXPECT_NEAR(Pc(0, 0), expect, 0.005 * std::abs(expect));
+  }
+}
+
+// Adiabatic heating: dT = chi dD / (rho cp), fed back into the thermal
+// softening of the next step.
+TEST(Plasticity, AdiabaticHeating)
+{
+  Point pt{Law::SMALL};
+  pt.fl.active = true;
+  pt.fl.kind = Hardening::JOHNSON_COOK;
+  pt.fl.sigma_y0 = SY;
+  pt.fl.K = 300e6;
+  pt.fl.n = 0.3;
+  pt.fl.T_ref = 293.0;
+  pt.fl.T_melt = 1700.0;
+  pt.th.cp = 450.0;
+  pt.th.chi = 0.9;
+  pt.env.T_base = 293.0;
+  pt.env.rho = 7850.0;
+  double e2 = 0.0;
+  for (int k = 1; k <= 100; ++k) uniaxial(pt, 0.002 * k, e2);
+  EXPECT_GT(pt.h[Hist::WORK], 0.0);
+  EXPECT_NEAR(pt.h[Hist::HEAT], 0.9 * pt.h[Hist::WORK] / (7850.0 * 450.0), 1e-12 * pt.h[Hist::HEAT]);
+  EXPECT_GT(pt.h[Hist::HEAT], 10.0);    // 0.2 strain at ~0.5 GPa heats steel by tens of K
+}
+
+// Johnson-Cook failure: under uniaxial tension (triaxiality 1/3) at the
+// reference rate and temperature the damage is eqps / (D1 + D2 exp(D3/3)).
+TEST(Plasticity, JohnsonCookDamage)
+{
+  Point pt{Law::SMALL};
+  pt.fl.active = true;
+  pt.fl.kind = Hardening::LINEAR;
+  pt.fl.sigma_y0 = SY;
+  pt.fl.H = 1e9;
+  pt.th.failure = true;
+  const double D[5] = {0.05, 3.44, -2.12, 0.002, 0.61};
+  for (int k = 0; k < 5; ++k) pt.th.D[k] = D[k];
+  double e2 = 0.0;
+  for (int k = 1; k <= 30; ++k) uniaxial(pt, 0.002 * k, e2);
+  const double ef = D[0] + D[1] * std::exp(D[2] / 3.0);
+  EXPECT_NEAR(pt.h[Hist::DAMAGE], pt.h[Hist::EQPS] / ef, 1e-6 * pt.h[Hist::DAMAGE]);
+}
+
+}    // namespace
