@@ -15,6 +15,7 @@
 #include "update.h"
 
 #include "nospd_constitutive.h"
+#include "nospd_plasticity.h"
 
 #include <cmath>
 #include <cstring>
@@ -28,6 +29,8 @@ static int ncolumns(int q)
     case 0: return 9;    // F
     case 1: return 6;    // strain
     case 2: return 6;    // stress
+    case 8: return 6;    // plastic strain
+    case 9: return 6;    // back stress
     default: return 1;
   }
 }
@@ -46,9 +49,17 @@ ComputeNospdAtom::ComputeNospdAtom(LAMMPS *lmp, int narg, char **arg) :
     else if (k == "energy") quantities.push_back(ENERGY);
     else if (k == "zem") quantities.push_back(ZEM);
     else if (k == "singular") quantities.push_back(SINGULAR);
+    else if (k == "eqps") quantities.push_back(EQPS);
+    else if (k == "plastic_strain") quantities.push_back(PLASTIC_STRAIN);
+    else if (k == "back_stress") quantities.push_back(BACK_STRESS);
+    else if (k == "temperature") quantities.push_back(TEMPERATURE);
+    else if (k == "yield") quantities.push_back(YIELDING);
+    else if (k == "plastic_work") quantities.push_back(PLASTIC_WORK);
+    else if (k == "jc_damage") quantities.push_back(JC_DAMAGE);
     else
       error->all(FLERR, "compute {}: unknown quantity '{}' (F, strain, stress, vonmises, energy, "
-                 "zem, singular)", style, k);
+                 "zem, singular, eqps, plastic_strain, back_stress, temperature, yield, "
+                 "plastic_work, jc_damage)", style, k);
   }
   if (quantities.empty()) quantities = {DEFGRAD, STRAIN, STRESS, VONMISES, ENERGY, ZEM, SINGULAR};
 
@@ -122,9 +133,53 @@ void ComputeNospdAtom::compute_peratom()
         case ENERGY: row[c++] = bonds->energy_density[i]; break;
         case ZEM: row[c++] = zem_indicator(i); break;
         case SINGULAR: row[c++] = bonds->singular[i]; break;
+        default: c = history_columns(i, q, row, c); break;
       }
     }
   }
+}
+
+/* ----------------------------------------------------------------------
+   inelastic history of atom i (zeros where the material has none).
+   Plastic strain: eps_p (strain small); the plastic Green-Lagrange
+   strain (C_p - I)/2 (strain hencky, C_p from the stored C_p^-1).
+------------------------------------------------------------------------- */
+
+int ComputeNospdAtom::history_columns(int i, int q, double *row, int c) const
+{
+  namespace H = NOSPD::Hist;
+  FixNospdBonds *bonds = pair->bonds();
+  const int n = ncolumns(q);
+  const bool has = bonds->nhistory > 0 && pair->has_history(atom->type[i]);
+  if (!has && q != TEMPERATURE) {
+    for (int k = 0; k < n; k++) row[c + k] = 0.0;
+    return c + n;
+  }
+  const double *h = has ? bonds->history[i] : nullptr;
+  switch (q) {
+    case EQPS: row[c] = h[H::EQPS]; break;
+    case YIELDING: row[c] = h[H::YIELDING]; break;
+    case PLASTIC_WORK: row[c] = h[H::WORK]; break;
+    case JC_DAMAGE: row[c] = h[H::DAMAGE]; break;
+    case TEMPERATURE: row[c] = pair->temperature(i); break;
+    case BACK_STRESS:
+      for (int k = 0; k < 6; k++) row[c + k] = h[H::BACK + k];
+      break;
+    case PLASTIC_STRAIN: {
+      const double *p = h + H::PLASTIC;
+      if (pair->law() == NOSPD::Law::SMALL) {
+        for (int k = 0; k < 6; k++) row[c + k] = p[k];
+      } else {
+        Mat3 Cpinv;
+        Cpinv << 1.0 + p[0], p[3], p[4], p[3], 1.0 + p[1], p[5], p[4], p[5], 1.0 + p[2];
+        const Mat3 Ep = 0.5 * (Cpinv.inverse() - Mat3::Identity());
+        const double v[6] = {Ep(0, 0), Ep(1, 1), Ep(2, 2), Ep(0, 1), Ep(0, 2), Ep(1, 2)};
+        for (int k = 0; k < 6; k++) row[c + k] = v[k];
+      }
+      break;
+    }
+  }
+  return c + n;
 }
 
 /* ----------------------------------------------------------------------

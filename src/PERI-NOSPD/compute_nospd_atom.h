@@ -19,7 +19,10 @@ namespace LAMMPS_NS {
 
 /* Per-atom output of the correspondence state owned by the bonds fix:
    deformation gradient, strain, Cauchy stress, von Mises stress, stored
-   energy density, zero-energy-mode indicator and singular-family flag.
+   energy density, zero-energy-mode indicator and singular-family flag;
+   for inelastic materials the history (equivalent plastic strain, plastic
+   strain tensor, back stress, temperature, yield flag, plastic work,
+   Johnson-Cook damage).
    Everything but the indicator is read, not recomputed. */
 class ComputeNospdAtom : public Compute {
  public:
@@ -30,13 +33,17 @@ class ComputeNospdAtom : public Compute {
   double memory_usage() override;
 
  private:
-  enum Quantity { DEFGRAD, STRAIN, STRESS, VONMISES, ENERGY, ZEM, SINGULAR };
+  enum Quantity {
+    DEFGRAD, STRAIN, STRESS, VONMISES, ENERGY, ZEM, SINGULAR,
+    EQPS, PLASTIC_STRAIN, BACK_STRESS, TEMPERATURE, YIELDING, PLASTIC_WORK, JC_DAMAGE
+  };
   std::vector<int> quantities;
   int nmax;
   double **out;
   class PairPeriNospd *pair;
 
   double zem_indicator(int i) const;
+  int history_columns(int i, int q, double *row, int c) const;
 };
 
 }    // namespace LAMMPS_NS

@@ -12,8 +12,12 @@
 #include "memory.h"
 #include "neigh_list.h"
 #include "neighbor.h"
+#include "update.h"
 
+#include "nospd_plasticity.h"
 #include "nospd_tensor.h"
+
+static constexpr int NOSPD_HIST_WORK = NOSPD::Hist::WORK;
 
 #include <algorithm>
 #include <cmath>
@@ -31,11 +35,14 @@ FixNospdBonds::FixNospdBonds(LAMMPS *lmp, int narg, char **arg) :
     bond_slot(nullptr), bond_w(nullptr), x0s(nullptr), kinv(nullptr), xi_moment(nullptr), u_moment(nullptr), family_size(nullptr), singular(nullptr),
     defgrad(nullptr), pk1(nullptr), energy_density(nullptr), nsingular(0), nbonds_total(0),
     nbonds_broken(0), nmax_bonds(0), nmax_first(0), nmax_x0s(0), stale(nullptr),
-    all_stale(true), x0s_store(nullptr), ref_box_set(0)
+    all_stale(true), trial_ready(0), x0s_store(nullptr), ref_box_set(0)
 {
+  nhistory = 0;
+  history = history_trial = nullptr;
   if (narg != 3) error->all(FLERR, "Illegal fix {} command: takes no arguments", style);
   vector_flag = 1;
-  size_vector = 3;
+  size_vector = 4;
+  create_attribute = 1;
   global_freq = 1;
   extvector = 0;
   maxexchange_dynamic = 1;
@@ -71,13 +78,15 @@ FixNospdBonds::~FixNospdBonds()
   memory->destroy(defgrad);
   memory->destroy(pk1);
   memory->destroy(energy_density);
+  memory->destroy(history);
+  memory->destroy(history_trial);
 }
 
 /* ---------------------------------------------------------------------- */
 
 int FixNospdBonds::setmask()
 {
-  return POST_NEIGHBOR | MIN_POST_NEIGHBOR;
+  return POST_NEIGHBOR | MIN_POST_NEIGHBOR | END_OF_STEP | POST_RUN;
 }
 
 /* ---------------------------------------------------------------------- */
@@ -109,7 +118,7 @@ void FixNospdBonds::setup_post_neighbor()
     first = 0;
   }
   // also after a restart, where build_families() does not run
-  maxexchange = maxpartner + 21;
+  maxexchange = maxpartner + 21 + nhistory;
   build_bond_arrays();
   all_stale = true;    // after a restart or a change of settings
   update_shape_tensors();
@@ -295,7 +304,7 @@ void FixNospdBonds::build_families()
       vinter[i] += fam[i][n].vol;    // read by compute damage/atom
     }
   }
-  maxexchange = maxpartner + 21;
+  maxexchange = maxpartner + 21 + nhistory;
 }
 
 /* ----------------------------------------------------------------------
@@ -571,7 +580,71 @@ double FixNospdBonds::compute_vector(int n)
 {
   if (n == 0) return (double) nbonds_total;
   if (n == 1) return (double) nbonds_broken;
-  return (double) nsingular;
+  if (n == 2) return (double) nsingular;
+  return nhistory ? history_sum(NOSPD_HIST_WORK) : 0.0;
+}
+
+/* ----------------------------------------------------------------------
+   inelastic history
+------------------------------------------------------------------------- */
+
+void FixNospdBonds::set_history_size(int n)
+{
+  if (n <= nhistory) return;
+  // new columns start at zero: the virgin state
+  const int nmax = atom->nmax;
+  double **h = nullptr, **t = nullptr;
+  memory->create(h, nmax, n, "nospd/bonds:history");
+  memory->create(t, nmax, n, "nospd/bonds:history_trial");
+  for (int i = 0; i < nmax; i++)
+    for (int k = 0; k < n; k++) {
+      h[i][k] = (k < nhistory) ? history[i][k] : 0.0;
+      t[i][k] = h[i][k];
+    }
+  memory->destroy(history);
+  memory->destroy(history_trial);
+  history = h;
+  history_trial = t;
+  nhistory = n;
+  maxexchange = maxpartner + 21 + nhistory;
+}
+
+/* ----------------------------------------------------------------------
+   a minimization is one load step: its converged state is accepted
+   (an MD run has accepted each of its steps at their end already)
+------------------------------------------------------------------------- */
+
+void FixNospdBonds::post_run()
+{
+  if (update->whichflag == 2) commit_history();
+  trial_ready = 0;
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixNospdBonds::commit_history()
+{
+  if (!nhistory || !trial_ready) return;
+  const int nlocal = atom->nlocal;
+  for (int i = 0; i < nlocal; i++)
+    for (int k = 0; k < nhistory; k++) history[i][k] = history_trial[i][k];
+  trial_ready = 0;
+}
+
+/* ---------------------------------------------------------------------- */
+
+double FixNospdBonds::history_sum(int k)
+{
+  double sum = 0.0, all = 0.0;
+  if (k < nhistory) {
+    const int nlocal = atom->nlocal;
+    // summed like pe and ke under PERI's conventions (rmass is the density,
+    // the pair energy the sum of energy densities), so that
+    // ke + pe + this is the conserved total
+    for (int i = 0; i < nlocal; i++) sum += history[i][k];
+  }
+  MPI_Allreduce(&sum, &all, 1, MPI_DOUBLE, MPI_SUM, world);
+  return all;
 }
 
 /* ---------------------------------------------------------------------- */
@@ -585,6 +658,7 @@ double FixNospdBonds::memory_usage()
   bytes += (double) nmax_first * sizeof(int);
   bytes += (double) nmax_bonds * (2 * sizeof(int) + sizeof(double));
   bytes += (double) nmax_x0s * 3 * sizeof(double);
+  bytes += nmax * 2.0 * nhistory * sizeof(double);
   return bytes;
 }
 
@@ -607,6 +681,19 @@ void FixNospdBonds::grow_arrays(int nmax)
   memory->grow(defgrad, nmax, 9, "nospd/bonds:defgrad");
   memory->grow(pk1, nmax, 9, "nospd/bonds:pk1");
   memory->grow(energy_density, nmax, "nospd/bonds:energy_density");
+  if (nhistory) {
+    memory->grow(history, nmax, nhistory, "nospd/bonds:history");
+    memory->grow(history_trial, nmax, nhistory, "nospd/bonds:history_trial");
+  }
+}
+
+/* ----------------------------------------------------------------------
+   an atom created after the fix: virgin material
+------------------------------------------------------------------------- */
+
+void FixNospdBonds::set_arrays(int i)
+{
+  for (int k = 0; k < nhistory; k++) history[i][k] = history_trial[i][k] = 0.0;
 }
 
 /* ---------------------------------------------------------------------- */
@@ -630,6 +717,10 @@ void FixNospdBonds::copy_arrays(int i, int j, int /*delflag*/)
   singular[j] = singular[i];
   stale[j] = stale[i];
   energy_density[j] = energy_density[i];
+  for (int k = 0; k < nhistory; k++) {
+    history[j][k] = history[i][k];
+    history_trial[j][k] = history_trial[i][k];
+  }
 }
 
 /* ----------------------------------------------------------------------
@@ -650,6 +741,7 @@ int FixNospdBonds::pack_exchange(int i, double *buf)
   buf[m++] = stale[i];
   for (int k = 0; k < 9; k++) buf[m++] = kinv[i][k];
   for (int k = 0; k < 3; k++) buf[m++] = xi_moment[i][k];
+  for (int k = 0; k < nhistory; k++) buf[m++] = history[i][k];
   return m;
 }
 
@@ -667,6 +759,7 @@ int FixNospdBonds::unpack_exchange(int nlocal, double *buf)
   stale[nlocal] = static_cast<int>(buf[m++]);
   for (int k = 0; k < 9; k++) kinv[nlocal][k] = buf[m++];
   for (int k = 0; k < 3; k++) xi_moment[nlocal][k] = buf[m++];
+  for (int k = 0; k < nhistory; k++) history[nlocal][k] = history_trial[nlocal][k] = buf[m++];
   return m;
 }
 
@@ -683,6 +776,8 @@ int FixNospdBonds::pack_restart(int i, double *buf)
   buf[1] = m - 2;
   buf[m++] = vinter[i];
   buf[m++] = family_size[i];
+  buf[m++] = nhistory;
+  for (int k = 0; k < nhistory; k++) buf[m++] = history[i][k];
   buf[0] = m;    // first value: size of this fix's record, as Atom expects
   return m;
 }
@@ -703,13 +798,17 @@ void FixNospdBonds::unpack_restart(int nlocal, int nth)
   wvolume[nlocal] = 0.0;
   singular[nlocal] = 0;
   stale[nlocal] = 1;
+  const int nh = static_cast<int>(extra[nlocal][m++]);
+  set_history_size(nh);
+  for (int k = 0; k < nhistory; k++)
+    history[nlocal][k] = history_trial[nlocal][k] = (k < nh) ? extra[nlocal][m++] : 0.0;
 }
 
 /* ---------------------------------------------------------------------- */
 
 int FixNospdBonds::maxsize_restart()
 {
-  return maxpartner + 4;
+  return maxpartner + 5 + nhistory;
 }
 
 /* ---------------------------------------------------------------------- */
@@ -719,5 +818,5 @@ int FixNospdBonds::size_restart(int nlocal)
   int n = 0;
   for (int k = 0; k < npartner[nlocal]; k++)
     if (partner[nlocal][k]) n++;
-  return n + 4;
+  return n + 5 + nhistory;
 }

@@ -46,11 +46,14 @@ class FixNospdBonds : public FixPeriNeigh {
   void setup_post_neighbor() override;
   void post_neighbor() override;
   void min_post_neighbor() override { post_neighbor(); }
+  void end_of_step() override { commit_history(); }
+  void post_run() override;
   double compute_vector(int) override;
 
   double memory_usage() override;
   void grow_arrays(int) override;
   void copy_arrays(int, int, int) override;
+  void set_arrays(int) override;
   int pack_exchange(int, double *) override;
   int unpack_exchange(int, double *) override;
   void write_restart(FILE *) override;
@@ -72,6 +75,20 @@ class FixNospdBonds : public FixPeriNeigh {
   // Call bonds_changed() once after a batch of breaks on all ranks.
   void break_bond(int i, int slot);
   void bonds_changed();
+
+  // Inelastic history (nospd_plasticity.h), n values per atom: `history`
+  // holds the state of the last accepted step, `history_trial` what the
+  // latest force evaluation made of it.  The trial state becomes the
+  // accepted one at the end of each MD step and at the end of a
+  // minimization: run 0, the setup of a run and line searches never
+  // accumulate plastic strain.
+  void set_history_size(int n);
+  void trial_history_ready() { trial_ready = 1; }
+  void commit_history();
+  int nhistory;              // values per atom, 0 if no type has history
+  double **history;          // [nmax][nhistory], accepted
+  double **history_trial;    // [nmax][nhistory], latest force evaluation
+  double history_sum(int k); // sum over atoms of history[k] (global)
 
   // ---- state read by pair styles, computes and the damage fix ----
   int nbond_atoms;        // owned atoms covered by the CSR arrays
@@ -103,6 +120,7 @@ class FixNospdBonds : public FixPeriNeigh {
   int nmax_bonds, nmax_first, nmax_x0s;
   int *stale;               // [nmax] K^-1 to recompute
   bool all_stale;
+  int trial_ready;
   double **x0s_store;    // x0s when the box is periodic (else x0s = atom->x0)
   int ref_box_set;       // ref_prd holds the box of the first build
   double ref_prd[3];     // periodic lengths of the reference configuration

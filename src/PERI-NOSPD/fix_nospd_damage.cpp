@@ -46,6 +46,7 @@
 #include "update.h"
 
 #include "nospd_damage.h"
+#include "nospd_plasticity.h"
 
 #include <cmath>
 #include <cstring>
@@ -152,8 +153,20 @@ FixNospdDamage::FixNospdDamage(LAMMPS *lmp, int narg, char **arg) :
     value = number(iarg + 2);
     if (!(value > 0.0)) error->all(FLERR, "{}: critical {} must be > 0, got {}", cmd, c, arg[iarg + 2]);
     iarg += 3;
+  } else if (c == "eqps") {
+    need(iarg, 1, c);
+    criterion = EQPS;
+    value = number(iarg + 1);
+    if (!(value > 0.0))
+      error->all(FLERR, "{}: critical equivalent plastic strain must be > 0, got {}", cmd, arg[iarg + 1]);
+    iarg += 2;
+  } else if (c == "johnson_cook") {
+    criterion = JC_DAMAGE;
+    value = 1.0;
+    iarg += 1;
   } else
-    error->all(FLERR, "{}: unknown criterion '{}' (stretch, energy, stress, strain, none)", cmd, c);
+    error->all(FLERR, "{}: unknown criterion '{}' (stretch, energy, stress, strain, eqps, "
+               "johnson_cook, none)", cmd, c);
 
   const int dim = domain->dimension;
   while (iarg < narg) {
@@ -265,6 +278,8 @@ FixNospdDamage::FixNospdDamage(LAMMPS *lmp, int narg, char **arg) :
     case STRAIN_PRINCIPAL:
     case STRESS_VONMISES: nstate = 6; break;
     case STRETCH: nstate = (alpha > 0.0) ? 1 : 0; break;
+    case EQPS:
+    case JC_DAMAGE: nstate = 1; break;
     default: nstate = 0;
   }
   ncomm = 4 + nstate;
@@ -313,6 +328,17 @@ void FixNospdDamage::init()
                "families)", cmd);
   bonds = pair->bonds();
   if (!bonds) error->all(FLERR, "{}: the pair style has no bond families yet", cmd);
+  if (criterion == EQPS || criterion == JC_DAMAGE) {
+    bool any = false;
+    for (int i = 1; i <= atom->ntypes; i++)
+      if (pair->has_history(i) &&
+          (criterion == EQPS ? pair->flow_law(i).active : pair->thermal_law(i).failure))
+        any = true;
+    if (!any)
+      error->all(FLERR, "{}: criterion {} needs a type with {} in its pair_coeff", cmd,
+                 criterion == EQPS ? "eqps" : "johnson_cook",
+                 criterion == EQPS ? "plasticity (yield or johnson_cook)" : "jc_failure D1..D5");
+  }
 
   if (nofail_region_id) {
     nofail_region = domain->get_region_by_id(nofail_region_id);
@@ -469,6 +495,14 @@ void FixNospdDamage::store_state()
   if (!nstate || !bonds || criterion == STRETCH) return;
   const int nlocal = atom->nlocal;
   const NOSPD::Law law = pair->law();
+  if (criterion == EQPS || criterion == JC_DAMAGE) {
+    // the point's history after this force computation (the trial state,
+    // which the end of the step accepts)
+    const int k = (criterion == EQPS) ? NOSPD::Hist::EQPS : NOSPD::Hist::DAMAGE;
+    const bool has = bonds->nhistory > k;
+    for (int i = 0; i < nlocal; i++) state[i][0] = has ? bonds->history_trial[i][k] : 0.0;
+    return;
+  }
   for (int i = 0; i < nlocal; i++) {
     double *c = state[i];
     const bool sing = bonds->singular[i] != 0;
@@ -661,6 +695,11 @@ void FixNospdDamage::evaluate_and_break(bool apply)
           val = NOSPD::normal_component(S, n);
           break;
         }
+        case EQPS:
+        case JC_DAMAGE:
+          // a failed point loses all its bonds
+          val = std::max(ca[4], cb[4]);
+          break;
         case STRESS_VONMISES: {
           if (!(s > 0.0)) continue;
           double S[6];

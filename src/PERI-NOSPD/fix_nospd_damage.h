@@ -53,7 +53,9 @@ class FixNospdDamage : public Fix {
   int unpack_exchange(int, double *) override;
   double memory_usage() override;
 
-  enum Criterion { STRETCH, ENERGY, STRESS_PRINCIPAL, STRAIN_PRINCIPAL, STRESS_VONMISES };
+  enum Criterion {
+    STRETCH, ENERGY, STRESS_PRINCIPAL, STRAIN_PRINCIPAL, STRESS_VONMISES, EQPS, JC_DAMAGE
+  };
 
  protected:
   int criterion;

@@ -48,7 +48,8 @@ namespace Hist {
   constexpr int HEAT = 14;      // temperature rise from adiabatic heating
   constexpr int DAMAGE = 15;    // Johnson-Cook damage sum(d eps_p / eps_f)
   constexpr int YIELDING = 16;  // 1 if the last accepted increment yielded
-  constexpr int SIZE = 17;
+  constexpr int FPREV = 17;     // 9: F - I of the accepted step (row-major)
+  constexpr int SIZE = 26;
 }    // namespace Hist
 
 enum class Hardening { LINEAR, POWER, JOHNSON_COOK };
@@ -234,11 +235,12 @@ namespace detail {
      Kirchhoff for HENCKY), the plastic increment and the history. */
   inline bool return_map(const Lame &m, const FlowLaw &fl, const ThermalLaw &th,
                          const PointEnv &env, const double *hn, double *h1, Mat3 &e,
-                         Mat3 &stress, Mat3 &dep, double &W)
+                         Mat3 &stress, Mat3 &dep, double &W, double &W_trial)
   {
     const Mat3 I = Mat3::Identity();
     const double T = env.T_base + hn[Hist::HEAT];
     double tr = e.trace();
+    W_trial = 0.5 * m.lambda * tr * tr + m.mu * e.squaredNorm();
     stress = m.lambda * tr * I + 2.0 * m.mu * e;
     dep.setZero();
     h1[Hist::YIELDING] = 0.0;
@@ -284,13 +286,10 @@ namespace detail {
 
 }    // namespace detail
 
-/* One material point in 3D: P and the stored energy W_e from F and the
-   history of the start of the step hn; writes the history of the end of
-   the step to h1 (hn is never modified, so trial evaluations repeat
-   exactly).  law is SMALL or HENCKY. */
-inline ReturnStatus inelastic_point_3d(Law law, const Lame &m, const FlowLaw &fl,
-                                       const ThermalLaw &th, const PointEnv &env, const Mat3 &F,
-                                       const double *hn, double *h1, Mat3 &P, double &W)
+namespace detail {
+inline ReturnStatus point_core(Law law, const Lame &m, const FlowLaw &fl, const ThermalLaw &th,
+                               const PointEnv &env, const Mat3 &F, const double *hn, double *h1,
+                               Mat3 &P, double &W, double &W_trial)
 {
   const Mat3 I = Mat3::Identity();
   for (int k = 0; k < Hist::SIZE; ++k) h1[k] = hn[k];
@@ -299,12 +298,12 @@ inline ReturnStatus inelastic_point_3d(Law law, const Lame &m, const FlowLaw &fl
 
   if (law == Law::SMALL) {
     const Mat3 eps = 0.5 * (F + F.transpose()) - I;
-    const Mat3 ep_n = detail::sym_from6(hn + Hist::PLASTIC);
+    const Mat3 ep_n = sym_from6(hn + Hist::PLASTIC);
     Mat3 e = eps - ep_n - eth * I;
     Mat3 sigma, dep;
-    if (!detail::return_map(m, fl, th, env, hn, h1, e, sigma, dep, W))
+    if (!return_map(m, fl, th, env, hn, h1, e, sigma, dep, W, W_trial))
       return ReturnStatus::NO_CONVERGENCE;
-    detail::sym_to6(ep_n + dep, h1 + Hist::PLASTIC);
+    sym_to6(ep_n + dep, h1 + Hist::PLASTIC);
     P = sigma;
     return ReturnStatus::OK;
   }
@@ -312,7 +311,7 @@ inline ReturnStatus inelastic_point_3d(Law law, const Lame &m, const FlowLaw &fl
   // HENCKY: trial b_e = F C_p^-1 F^T in its principal frame
   const double J = F.determinant();
   if (!(J > 0.0) || !F.allFinite()) return ReturnStatus::BAD_DEFORMATION;
-  const Mat3 Cpinv = I + detail::sym_from6(hn + Hist::PLASTIC);
+  const Mat3 Cpinv = I + sym_from6(hn + Hist::PLASTIC);
   const Mat3 be = F * Cpinv * F.transpose();
   Eigen::SelfAdjointEigenSolver<Mat3> eig(0.5 * (be + be.transpose()));
   if (eig.info() != Eigen::Success) return ReturnStatus::BAD_DEFORMATION;
@@ -323,7 +322,7 @@ inline ReturnStatus inelastic_point_3d(Law law, const Lame &m, const FlowLaw &fl
   Mat3 e = Mat3::Zero();
   for (int a = 0; a < 3; ++a) e(a, a) = 0.5 * std::log(lam2(a)) - lth;
   Mat3 tau, dep;
-  if (!detail::return_map(m, fl, th, env, hn, h1, e, tau, dep, W))
+  if (!return_map(m, fl, th, env, hn, h1, e, tau, dep, W, W_trial))
     return ReturnStatus::NO_CONVERGENCE;
   // tau and e stay diagonal in the principal frame (the flow is coaxial)
   Mat3 tau_s = Mat3::Zero(), be1 = Mat3::Zero();
@@ -336,9 +335,45 @@ inline ReturnStatus inelastic_point_3d(Law law, const Lame &m, const FlowLaw &fl
   P = tau_g * Finv.transpose();
   if (fl.active && h1[Hist::YIELDING] > 0.0) {
     const Mat3 be1_g = Nv * be1 * Nv.transpose();
-    detail::sym_to6(Finv * be1_g * Finv.transpose() - I, h1 + Hist::PLASTIC);
+    sym_to6(Finv * be1_g * Finv.transpose() - I, h1 + Hist::PLASTIC);
   }
   return P.allFinite() ? ReturnStatus::OK : ReturnStatus::BAD_DEFORMATION;
+}
+}    // namespace detail
+
+/* One material point in 3D: P and the stored energy W_e from F and the
+   history of the start of the step hn; writes the history of the end of
+   the step to h1 (hn is never modified, so trial evaluations repeat
+   exactly).  law is SMALL or HENCKY.
+
+   A Johnson-Cook yield surface moves between steps (rate and temperature):
+   the accepted state of the last step may lie outside the surface the new
+   increment starts from.  The elastic energy its relaxation releases beyond
+   the flow-stress integral is dissipated too: it is W_trial - W - dD of the
+   return evaluated at the accepted step's F, added to the plastic work, so
+   that ke + pe + plastic work stays the conserved total. */
+inline ReturnStatus inelastic_point_3d(Law law, const Lame &m, const FlowLaw &fl,
+                                       const ThermalLaw &th, const PointEnv &env, const Mat3 &F,
+                                       const double *hn, double *h1, Mat3 &P, double &W)
+{
+  double W_trial;
+  const ReturnStatus st = detail::point_core(law, m, fl, th, env, F, hn, h1, P, W, W_trial);
+  if (st != ReturnStatus::OK) return st;
+  if (fl.active && fl.kind == Hardening::JOHNSON_COOK) {
+    double hp[Hist::SIZE];
+    Mat3 Pp;
+    double Wp, Wtp;
+    const Mat3 Fp = Mat3::Identity() + load(hn + Hist::FPREV);
+    if (detail::point_core(law, m, fl, th, env, Fp, hn, hp, Pp, Wp, Wtp) == ReturnStatus::OK) {
+      const double relax = Wtp - Wp - (hp[Hist::WORK] - hn[Hist::WORK]);
+      if (relax > 0.0) {
+        h1[Hist::WORK] += relax;
+        if (th.cp > 0.0 && env.rho > 0.0) h1[Hist::HEAT] += th.chi * relax / (env.rho * th.cp);
+      }
+    }
+  }
+  store(F - Mat3::Identity(), h1 + Hist::FPREV);
+  return ReturnStatus::OK;
 }
 
 /* The same under the plane assumption (plane stress solves F33 for P33 = 0

@@ -12,11 +12,13 @@
 #include "error.h"
 #include "fix_nospd_bonds.h"
 #include "force.h"
+#include "input.h"
 #include "lattice.h"
 #include "memory.h"
 #include "modify.h"
 #include "potential_file_reader.h"
 #include "update.h"
+#include "variable.h"
 
 #include <cmath>
 #include <cstring>
@@ -50,6 +52,9 @@ PairPeriNospd::PairPeriNospd(LAMMPS *lmp) :
     stab_scalar(nullptr), cut(nullptr), nmax_work(0), bmat(nullptr), tmat(nullptr),
     moments(nullptr), stab_atom(nullptr), comm_tensors(1)
 {
+  temperature_kind = TEMP_NONE;
+  temperature_index = -1;
+  temperature_base = nullptr;
   if (lmp->citeme) lmp->citeme->add(cite_nospd);
   single_enable = 0;
   restartinfo = 1;
@@ -68,6 +73,7 @@ PairPeriNospd::~PairPeriNospd()
   memory->destroy(tmat);
   memory->destroy(moments);
   memory->destroy(stab_atom);
+  memory->destroy(temperature_base);
   if (allocated) {
     memory->destroy(setflag);
     memory->destroy(cutsq);
@@ -101,6 +107,9 @@ void PairPeriNospd::allocate()
   }
   lame.assign(n, NOSPD::Lame{0.0, 0.0, 0.0});
   material_name.assign(n, std::string());
+  flow.assign(n, NOSPD::FlowLaw());
+  thermal.assign(n, NOSPD::ThermalLaw());
+  inelastic.assign(n, 0);
 }
 
 /* ----------------------------------------------------------------------
@@ -124,7 +133,8 @@ void PairPeriNospd::settings(int narg, char **arg)
       else if (v == "finite" || v == "corotational") strain_law = Law::COROTATIONAL;
       else if (v == "svk") strain_law = Law::SVK;
       else if (v == "neohookean") strain_law = Law::NEOHOOKE;
-      else error->all(FLERR, "{}: unknown strain '{}' (small, finite, svk, neohookean)", cmd, v);
+      else if (v == "hencky") strain_law = Law::HENCKY;
+      else error->all(FLERR, "{}: unknown strain '{}' (small, finite, svk, neohookean, hencky)", cmd, v);
       iarg += 2;
     } else if (key == "stabilization") {
       need(1);
@@ -168,6 +178,20 @@ void PairPeriNospd::settings(int narg, char **arg)
       if (!(singular_tol > 0.0 && singular_tol < 1.0))
         error->all(FLERR, "{}: singular_tol must be in (0,1), got {}", cmd, arg[iarg + 1]);
       iarg += 2;
+    } else if (key == "temperature") {
+      need(1);
+      const std::string v = arg[iarg + 1];
+      if (v == "none") {
+        temperature_kind = TEMP_NONE;
+      } else if (utils::strmatch(v, "^d_.") && v.find(':') == std::string::npos) {
+        temperature_kind = TEMP_PROPERTY;
+      } else if (utils::strmatch(v, "^v_.")) {
+        temperature_kind = TEMP_VARIABLE;
+      } else
+        error->all(FLERR, "{}: temperature needs d_name (a per-atom property of fix "
+                   "property/atom), v_name (an atom-style variable) or none, got '{}'", cmd, v);
+      temperature_name = (temperature_kind == TEMP_NONE) ? "" : v.substr(2);
+      iarg += 2;
     } else
       error->all(FLERR, "{}: unknown keyword '{}'", cmd, key);
   }
@@ -178,16 +202,18 @@ void PairPeriNospd::settings(int narg, char **arg)
 }
 
 /* ----------------------------------------------------------------------
-   pair_coeff I J E nu delta
-   pair_coeff I J file name delta      (material from a potentials/ file)
-   pair_coeff I J delta                (horizon of a cross pair only)
+   pair_coeff I J E nu delta [keyword values ...]
+   pair_coeff I J file name delta [keyword values ...]   (material from a potentials/ file)
+   pair_coeff I J delta                                  (horizon of a cross pair only)
    A material belongs to a type: it applies to the types in both ranges.
+   The keywords (inelastic laws) may also follow the numbers of a material
+   file entry; those on the pair_coeff line come after and override them.
 ------------------------------------------------------------------------- */
 
 void PairPeriNospd::coeff(int narg, char **arg)
 {
   const std::string cmd = std::string("pair_coeff (") + force->pair_style + ")";
-  if (narg != 3 && narg != 5)
+  if (narg != 3 && narg < 5)
     error->all(FLERR, "{}: expected 'I J E nu delta', 'I J file name delta' or 'I J delta'", cmd);
   if (!allocated) allocate();
 
@@ -195,21 +221,28 @@ void PairPeriNospd::coeff(int narg, char **arg)
   utils::bounds(FLERR, arg[0], 1, atom->ntypes, ilo, ihi, error);
   utils::bounds(FLERR, arg[1], 1, atom->ntypes, jlo, jhi, error);
 
-  const double delta = utils::numeric(FLERR, arg[narg - 1], false, lmp);
-  if (!(delta > 0.0)) error->all(FLERR, "{}: horizon delta must be > 0, got {}", cmd, arg[narg - 1]);
+  const int idelta = (narg == 3) ? 2 : 4;
+  const double delta = utils::numeric(FLERR, arg[idelta], false, lmp);
+  if (!(delta > 0.0)) error->all(FLERR, "{}: horizon delta must be > 0, got {}", cmd, arg[idelta]);
 
-  bool has_material = (narg == 5);
+  bool has_material = (narg >= 5);
   double E = 0.0, nu = 0.0, G0 = 0.0;
   std::string name;
+  NOSPD::FlowLaw fl;
+  NOSPD::ThermalLaw th;
   if (has_material) {
+    std::vector<std::string> words;
     if (utils::is_double(arg[2])) {
       E = utils::numeric(FLERR, arg[2], false, lmp);
       nu = utils::numeric(FLERR, arg[3], false, lmp);
       name = "inline";
     } else {
       name = arg[3];
-      read_material_file(arg[2], name, E, nu, G0);
+      read_material_file(arg[2], name, E, nu, G0, words);
+      if (!words.empty()) parse_inelastic(words, fl, th, fmt::format("material {} in {}", name, arg[2]));
     }
+    words.assign(arg + 5, arg + narg);
+    parse_inelastic(words, fl, th, cmd);
     if (!(E > 0.0)) error->all(FLERR, "{}: Young's modulus E must be > 0, got {}", cmd, E);
     if (!(nu > -1.0 && nu < 0.5) && plane_mode != Plane::STRESS)
       error->all(FLERR, "{}: Poisson ratio nu must be in (-1, 0.5), got {}", cmd, nu);
@@ -226,6 +259,8 @@ void PairPeriNospd::coeff(int narg, char **arg)
       poisson[i] = nu;
       g0[i] = G0;
       material_name[i] = name;
+      flow[i] = fl;
+      thermal[i] = th;
       nmat++;
     }
     for (int j = MAX(jlo, i); j <= jhi; j++) {
@@ -239,6 +274,140 @@ void PairPeriNospd::coeff(int narg, char **arg)
     error->all(FLERR, "{}: a material belongs to one type: use 'I I' or '* *'; for the cross "
                "pair {} {} give only the horizon", cmd, arg[0], arg[1]);
   ensure_bonds_fix();
+}
+
+/* ----------------------------------------------------------------------
+   inelastic keywords of a material (doc/pair_peri_nospd.rst):
+     yield sigma_y0                      J2 plasticity, initial yield stress
+     hardening linear H | power K n      isotropic hardening (default linear 0)
+     kinematic Hk                        linear kinematic hardening (strain small)
+     johnson_cook A B n C rate0 m T_ref T_melt
+     thermal alpha T_ref                 isotropic thermal expansion
+     heat cp chi                         adiabatic heating (Taylor-Quinney chi)
+     jc_failure D1 D2 D3 D4 D5           Johnson-Cook failure strain (damage)
+------------------------------------------------------------------------- */
+
+void PairPeriNospd::parse_inelastic(const std::vector<std::string> &words, NOSPD::FlowLaw &fl,
+                                    NOSPD::ThermalLaw &th, const std::string &where) const
+{
+  using NOSPD::Hardening;
+  size_t k = 0;
+  bool thermal_ref_given = false;
+  while (k < words.size()) {
+    const std::string key = words[k];
+    auto values = [&](size_t n) {
+      if (k + n >= words.size())
+        error->all(FLERR, "{}: keyword {} needs {} value(s)", where, key, n);
+      std::vector<double> v(n);
+      for (size_t m = 0; m < n; m++) {
+        if (!utils::is_double(words[k + 1 + m]))
+          error->all(FLERR, "{}: keyword {} expects a number, got '{}'", where, key, words[k + 1 + m]);
+        v[m] = std::stod(words[k + 1 + m]);
+      }
+      k += n + 1;
+      return v;
+    };
+    if (key == "yield") {
+      const auto v = values(1);
+      if (!(v[0] > 0.0)) error->all(FLERR, "{}: yield stress must be > 0, got {}", where, v[0]);
+      if (fl.kind == Hardening::JOHNSON_COOK && fl.active)
+        error->all(FLERR, "{}: yield and johnson_cook exclude each other (A is the yield stress)", where);
+      fl.active = true;
+      fl.sigma_y0 = v[0];
+    } else if (key == "hardening") {
+      if (k + 1 >= words.size()) error->all(FLERR, "{}: hardening needs linear H or power K n", where);
+      const std::string kind = words[k + 1];
+      k++;
+      if (kind == "linear") {
+        const auto v = values(1);
+        if (!(v[0] >= 0.0))
+          error->all(FLERR, "{}: hardening linear H = {} would make the flow stress fall; "
+                     "H must be >= 0", where, v[0]);
+        fl.kind = Hardening::LINEAR;
+        fl.H = v[0];
+      } else if (kind == "power") {
+        const auto v = values(2);
+        if (!(v[0] >= 0.0))
+          error->all(FLERR, "{}: hardening power K = {} would make the flow stress fall; "
+                     "K must be >= 0", where, v[0]);
+        if (!(v[1] > 0.0)) error->all(FLERR, "{}: hardening power exponent n must be > 0, got {}", where, v[1]);
+        fl.kind = Hardening::POWER;
+        fl.K = v[0];
+        fl.n = v[1];
+      } else
+        error->all(FLERR, "{}: unknown hardening '{}' (linear H, power K n)", where, kind);
+    } else if (key == "kinematic") {
+      const auto v = values(1);
+      if (!(v[0] >= 0.0)) error->all(FLERR, "{}: kinematic hardening modulus must be >= 0, got {}", where, v[0]);
+      fl.Hkin = v[0];
+    } else if (key == "johnson_cook") {
+      const auto v = values(8);
+      if (!(v[0] > 0.0)) error->all(FLERR, "{}: johnson_cook A (yield stress) must be > 0, got {}", where, v[0]);
+      if (!(v[1] >= 0.0)) error->all(FLERR, "{}: johnson_cook B = {} would make the flow stress fall; B must be >= 0", where, v[1]);
+      if (!(v[2] > 0.0)) error->all(FLERR, "{}: johnson_cook n must be > 0, got {}", where, v[2]);
+      if (!(v[3] >= 0.0)) error->all(FLERR, "{}: johnson_cook C must be >= 0, got {}", where, v[3]);
+      if (!(v[4] > 0.0)) error->all(FLERR, "{}: johnson_cook reference rate must be > 0, got {}", where, v[4]);
+      if (!(v[5] > 0.0)) error->all(FLERR, "{}: johnson_cook m must be > 0, got {}", where, v[5]);
+      if (!(v[7] > v[6]))
+        error->all(FLERR, "{}: johnson_cook T_melt = {} must exceed T_ref = {}", where, v[7], v[6]);
+      fl.active = true;
+      fl.kind = Hardening::JOHNSON_COOK;
+      fl.sigma_y0 = v[0];
+      fl.K = v[1];
+      fl.n = v[2];
+      fl.C = v[3];
+      fl.rate0 = v[4];
+      fl.m = v[5];
+      fl.T_ref = v[6];
+      fl.T_melt = v[7];
+      if (!thermal_ref_given) th.T_ref = v[6];
+    } else if (key == "thermal") {
+      const auto v = values(2);
+      if (!(v[1] > 0.0)) error->all(FLERR, "{}: thermal T_ref must be > 0 (absolute), got {}", where, v[1]);
+      th.alpha = v[0];
+      th.T_ref = v[1];
+      thermal_ref_given = true;
+    } else if (key == "heat") {
+      const auto v = values(2);
+      if (!(v[0] > 0.0)) error->all(FLERR, "{}: heat cp must be > 0, got {}", where, v[0]);
+      if (!(v[1] >= 0.0 && v[1] <= 1.0))
+        error->all(FLERR, "{}: heat Taylor-Quinney fraction must be in [0,1], got {}", where, v[1]);
+      th.cp = v[0];
+      th.chi = v[1];
+    } else if (key == "jc_failure") {
+      const auto v = values(5);
+      th.failure = true;
+      for (int m = 0; m < 5; m++) th.D[m] = v[m];
+    } else
+      error->all(FLERR, "{}: unknown keyword '{}' (yield, hardening, kinematic, johnson_cook, "
+                 "thermal, heat, jc_failure)", where, key);
+  }
+  if (fl.kind == Hardening::JOHNSON_COOK && (fl.H != 0.0))
+    error->all(FLERR, "{}: hardening and johnson_cook exclude each other", where);
+  if (!fl.active && (fl.H != 0.0 || fl.K != 0.0 || fl.Hkin != 0.0))
+    error->all(FLERR, "{}: hardening/kinematic need a yield stress (keyword yield)", where);
+  if (!fl.active && (th.cp > 0.0 || th.failure))
+    error->all(FLERR, "{}: heat and jc_failure need plasticity (keyword yield or johnson_cook)", where);
+}
+
+/* ----------------------------------------------------------------------
+   an inelastic type needs a law that has an inelastic form
+------------------------------------------------------------------------- */
+
+void PairPeriNospd::check_inelastic(int itype) const
+{
+  const auto &fl = flow[itype];
+  const auto &th = thermal[itype];
+  if (!fl.active && th.alpha == 0.0) return;
+  const char *laws[] = {"small", "finite", "svk", "neohookean", "hencky"};
+  if (strain_law != Law::SMALL && strain_law != Law::HENCKY)
+    error->all(FLERR, "pair_style {}: type {} has {} but strain {} has no inelastic form: use "
+               "strain small (additive) or strain hencky (multiplicative, finite)",
+               force->pair_style, itype, fl.active ? "plasticity" : "thermal expansion",
+               laws[static_cast<int>(strain_law)]);
+  if (fl.Hkin > 0.0 && strain_law != Law::SMALL)
+    error->all(FLERR, "pair_style {}: type {}: kinematic hardening is implemented for strain "
+               "small only, not strain hencky", force->pair_style, itype);
 }
 
 /* ----------------------------------------------------------------------
@@ -257,10 +426,12 @@ PairPeriNospd *PairPeriNospd::find(Force *force)
 /* ---------------------------------------------------------------------- */
 
 void PairPeriNospd::read_material_file(const std::string &file, const std::string &name,
-                                       double &E, double &nu, double &G0)
+                                       double &E, double &nu, double &G0,
+                                       std::vector<std::string> &extra)
 {
   double vals[3] = {0.0, 0.0, 0.0};
   int found = 0;
+  std::string rest;
   if (comm->me == 0) {
     PotentialFileReader reader(lmp, file, "peri/nospd material");
     char *line;
@@ -272,6 +443,7 @@ void PairPeriNospd::read_material_file(const std::string &file, const std::strin
         vals[1] = v.next_double();    // nu
         v.next_double();              // density: set with the `set` command
         vals[2] = v.next_double();    // G0
+        while (v.has_next()) rest += v.next_string() + " ";    // inelastic keywords
         found = 1;
         break;
       } catch (TokenizerException &e) {
@@ -284,6 +456,11 @@ void PairPeriNospd::read_material_file(const std::string &file, const std::strin
     error->all(FLERR, "pair_coeff ({}): material '{}' not found in file {}", force->pair_style,
                name, file);
   MPI_Bcast(vals, 3, MPI_DOUBLE, 0, world);
+  int len = rest.size();
+  MPI_Bcast(&len, 1, MPI_INT, 0, world);
+  rest.resize(len);
+  MPI_Bcast(&rest[0], len, MPI_CHAR, 0, world);
+  extra = utils::split_words(rest);
   E = vals[0];
   nu = vals[1];
   G0 = vals[2];
@@ -380,7 +557,32 @@ void PairPeriNospd::init_style()
   comm_tensors = (stab == Stab::WAN || stab == Stab::HOURGLASS) ? 2 : 1;
   comm_forward = 9 * comm_tensors + 1;
 
+  // inelastic types: history in the bonds fix, a temperature source
+  bool any_history = false;
+  for (int i = 1; i <= atom->ntypes; i++) {
+    inelastic[i] = 0;
+    if (!active[i]) continue;
+    check_inelastic(i);
+    inelastic[i] = (flow[i].active || thermal[i].alpha != 0.0) ? 1 : 0;
+    any_history = any_history || inelastic[i];
+  }
+  if (temperature_kind == TEMP_PROPERTY) {
+    int flag, cols;
+    temperature_index = atom->find_custom(temperature_name.c_str(), flag, cols);
+    if (temperature_index < 0 || flag != 1 || cols != 0)
+      error->all(FLERR, "{}: temperature d_{} is not a per-atom floating-point property; define "
+                 "it with 'fix ID all property/atom d_{}' and set it with 'set ... d_{} value'",
+                 cmd, temperature_name, temperature_name, temperature_name);
+  } else if (temperature_kind == TEMP_VARIABLE) {
+    temperature_index = input->variable->find(temperature_name.c_str());
+    if (temperature_index < 0)
+      error->all(FLERR, "{}: temperature variable {} does not exist", cmd, temperature_name);
+    if (!input->variable->atomstyle(temperature_index))
+      error->all(FLERR, "{}: temperature variable {} is not atom-style", cmd, temperature_name);
+  }
+
   ensure_bonds_fix();
+  if (any_history) fix_bonds->set_history_size(NOSPD::Hist::SIZE);
   NospdBondModel model;
   model.horizon = cut;
   model.influence = influence;
@@ -419,7 +621,9 @@ void PairPeriNospd::grow_work()
   memory->destroy(tmat);
   memory->destroy(moments);
   memory->destroy(stab_atom);
+  memory->destroy(temperature_base);
   memory->create(stab_atom, nmax_work, "pair:stab_atom");
+  memory->create(temperature_base, nmax_work, "pair:temperature_base");
   memory->create(bmat, nmax_work, 9, "pair:bmat");
   memory->create(tmat, nmax_work, 9, "pair:tmat");
   memory->create(moments, nmax_work, 6, "pair:moments");
@@ -468,8 +672,18 @@ void PairPeriNospd::constitutive_pass(int eflag)
   double **kinv = fix_bonds->kinv;
   double **pk1 = fix_bonds->pk1;
   double *wdens = fix_bonds->energy_density;
+  const int nhist = fix_bonds->nhistory;
+  double **hist = fix_bonds->history;
+  double **hist_trial = fix_bonds->history_trial;
+  if (nhist) fill_base_temperature();
+  NOSPD::PointEnv env;
+  env.dt = update->dt;
 
   for (int i = 0; i < nlocal; i++) {
+    const int itype = type[i];
+    const bool history_point = nhist && inelastic[itype];
+    if (nhist && (!history_point || singular[i]))
+      for (int k = 0; k < nhist; k++) hist_trial[i][k] = hist[i][k];
     if (singular[i]) {
       // no force state of its own: no stress, no stabilization
       for (int k = 0; k < 9; k++) bmat[i][k] = tmat[i][k] = pk1[i][k] = 0.0;
@@ -477,14 +691,19 @@ void PairPeriNospd::constitutive_pass(int eflag)
       wdens[i] = 0.0;
       continue;
     }
-    const int itype = type[i];
     stab_atom[i] = stab_scalar[itype];
     Mat3 F = NOSPD::load(defgrad[i]);
     const Mat3 H = F - Mat3::Identity();
     const Mat3 Ki = NOSPD::load(kinv[i]);
     Mat3 P;
     double W = 0.0;
-    if (!NOSPD::first_piola(strain_law, plane_mode, lame[itype], F, P, W))
+    if (history_point) {
+      env.T_base = temperature_base[i];
+      env.rho = atom->rmass[i];
+      const auto st = NOSPD::inelastic_point(strain_law, plane_mode, lame[itype], flow[itype],
+                                             thermal[itype], env, F, hist[i], hist_trial[i], P, W);
+      if (st != NOSPD::ReturnStatus::OK) inelastic_failure(i, st, F);
+    } else if (!NOSPD::first_piola(strain_law, plane_mode, lame[itype], F, P, W))
       error->one(FLERR, "pair_style {}: atom {} has det F = {:.6g}: the finite-strain law is "
                  "undefined for an inverted or collapsed family", force->pair_style,
                  atom->tag[i], F.determinant());
@@ -516,6 +735,54 @@ void PairPeriNospd::constitutive_pass(int eflag)
       tally_energy(i, e);
     }
   }
+  if (nhist) fix_bonds->trial_history_ready();
+}
+
+/* ----------------------------------------------------------------------
+   the user's temperature of each owned atom (before adiabatic heating)
+------------------------------------------------------------------------- */
+
+void PairPeriNospd::fill_base_temperature()
+{
+  const int nlocal = atom->nlocal;
+  const int *type = atom->type;
+  if (temperature_kind == TEMP_VARIABLE) {
+    input->variable->compute_atom(temperature_index, 0, temperature_base, 1, 0);
+  } else if (temperature_kind == TEMP_PROPERTY) {
+    const double *t = atom->dvector[temperature_index];
+    for (int i = 0; i < nlocal; i++) temperature_base[i] = t[i];
+  } else {
+    for (int i = 0; i < nlocal; i++) temperature_base[i] = thermal[type[i]].T_ref;
+  }
+  for (int i = 0; i < nlocal; i++)
+    if (inelastic[type[i]] && !std::isfinite(temperature_base[i]))
+      error->one(FLERR, "pair_style {}: atom {} has temperature {} from {}{}", force->pair_style,
+                 atom->tag[i], temperature_base[i],
+                 temperature_kind == TEMP_VARIABLE ? "v_" : "d_", temperature_name);
+}
+
+/* ---------------------------------------------------------------------- */
+
+double PairPeriNospd::temperature(int i) const
+{
+  const int nhist = fix_bonds ? fix_bonds->nhistory : 0;
+  if (!nhist || !temperature_base || i >= nmax_work) return thermal[atom->type[i]].T_ref;
+  return temperature_base[i] + (nhist ? fix_bonds->history[i][NOSPD::Hist::HEAT] : 0.0);
+}
+
+/* ---------------------------------------------------------------------- */
+
+void PairPeriNospd::inelastic_failure(int i, NOSPD::ReturnStatus st, const Mat3 &F) const
+{
+  if (st == NOSPD::ReturnStatus::BAD_DEFORMATION)
+    error->one(FLERR, "pair_style {}: atom {} on step {} has det F = {:.6g}: the finite-strain "
+               "law is undefined for an inverted or collapsed family (time step too large?)",
+               force->pair_style, atom->tag[i], update->ntimestep, F.determinant());
+  error->one(FLERR, "pair_style {}: the plastic return mapping did not converge at atom {} on "
+             "step {} (equivalent plastic strain {:.6g}, temperature {:.6g}); the strain "
+             "increment may be too large (time step) or the flow law ill-posed",
+             force->pair_style, atom->tag[i], update->ntimestep,
+             fix_bonds->history[i][NOSPD::Hist::EQPS], temperature_base[i]);
 }
 
 /* ----------------------------------------------------------------------
@@ -703,6 +970,8 @@ void PairPeriNospd::write_restart(FILE *fp)
     fwrite(&youngs[i], sizeof(double), 1, fp);
     fwrite(&poisson[i], sizeof(double), 1, fp);
     fwrite(&g0[i], sizeof(double), 1, fp);
+    fwrite(&flow[i], sizeof(NOSPD::FlowLaw), 1, fp);
+    fwrite(&thermal[i], sizeof(NOSPD::ThermalLaw), 1, fp);
     for (int j = i; j <= atom->ntypes; j++) {
       fwrite(&setflag[i][j], sizeof(int), 1, fp);
       if (setflag[i][j]) fwrite(&cut[i][j], sizeof(double), 1, fp);
@@ -722,7 +991,11 @@ void PairPeriNospd::read_restart(FILE *fp)
       utils::sfread(FLERR, &youngs[i], sizeof(double), 1, fp, nullptr, error);
       utils::sfread(FLERR, &poisson[i], sizeof(double), 1, fp, nullptr, error);
       utils::sfread(FLERR, &g0[i], sizeof(double), 1, fp, nullptr, error);
+      utils::sfread(FLERR, &flow[i], sizeof(NOSPD::FlowLaw), 1, fp, nullptr, error);
+      utils::sfread(FLERR, &thermal[i], sizeof(NOSPD::ThermalLaw), 1, fp, nullptr, error);
     }
+    MPI_Bcast(&flow[i], sizeof(NOSPD::FlowLaw), MPI_BYTE, 0, world);
+    MPI_Bcast(&thermal[i], sizeof(NOSPD::ThermalLaw), MPI_BYTE, 0, world);
     MPI_Bcast(&youngs[i], 1, MPI_DOUBLE, 0, world);
     MPI_Bcast(&poisson[i], 1, MPI_DOUBLE, 0, world);
     MPI_Bcast(&g0[i], 1, MPI_DOUBLE, 0, world);
@@ -746,6 +1019,9 @@ void PairPeriNospd::write_restart_settings(FILE *fp)
   double dv[3] = {stab_param, thickness, singular_tol};
   fwrite(iv, sizeof(int), 4, fp);
   fwrite(dv, sizeof(double), 3, fp);
+  int tv[2] = {static_cast<int>(temperature_kind), static_cast<int>(temperature_name.size())};
+  fwrite(tv, sizeof(int), 2, fp);
+  fwrite(temperature_name.data(), 1, tv[1], fp);
 }
 
 /* ---------------------------------------------------------------------- */
@@ -760,6 +1036,14 @@ void PairPeriNospd::read_restart_settings(FILE *fp)
   }
   MPI_Bcast(iv, 4, MPI_INT, 0, world);
   MPI_Bcast(dv, 3, MPI_DOUBLE, 0, world);
+  int tv[2] = {0, 0};
+  if (comm->me == 0) utils::sfread(FLERR, tv, sizeof(int), 2, fp, nullptr, error);
+  MPI_Bcast(tv, 2, MPI_INT, 0, world);
+  std::string tname(tv[1], ' ');
+  if (comm->me == 0 && tv[1] > 0) utils::sfread(FLERR, &tname[0], 1, tv[1], fp, nullptr, error);
+  if (tv[1] > 0) MPI_Bcast(&tname[0], tv[1], MPI_CHAR, 0, world);
+  temperature_kind = static_cast<decltype(temperature_kind)>(tv[0]);
+  temperature_name = tname;
   strain_law = static_cast<Law>(iv[0]);
   plane_mode = static_cast<Plane>(iv[1]);
   stab = static_cast<Stab>(iv[2]);
@@ -773,7 +1057,7 @@ void PairPeriNospd::read_restart_settings(FILE *fp)
 
 double PairPeriNospd::memory_usage()
 {
-  return (double) nmax_work * (9 + 9 + 6 + 1) * sizeof(double);
+  return (double) nmax_work * (9 + 9 + 6 + 2) * sizeof(double);
 }
 
 /* ---------------------------------------------------------------------- */

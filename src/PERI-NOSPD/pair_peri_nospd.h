@@ -14,6 +14,7 @@ PairStyle(peri/nospd,PairPeriNospd);
 #include "atom.h"
 #include "pair.h"
 
+#include "nospd_plasticity.h"
 #include "nospd_stabilization.h"
 
 #include <string>
@@ -59,6 +60,13 @@ class PairPeriNospd : public Pair {
   double plate_thickness() const { return thickness; }
   double horizon(int itype, int jtype) const { return cut[itype][jtype]; }
   int stabilization_kind() const { return static_cast<int>(stab); }
+  // inelastic materials (history kept by the bonds fix)
+  bool has_history(int itype) const { return inelastic[itype] != 0; }
+  const NOSPD::FlowLaw &flow_law(int itype) const { return flow[itype]; }
+  const NOSPD::ThermalLaw &thermal_law(int itype) const { return thermal[itype]; }
+  // temperature of owned atom i at the last force evaluation: the user's
+  // (temperature keyword, else the type's reference) plus adiabatic heating
+  double temperature(int i) const;
 
  protected:
   FixNospdBonds *fix_bonds;
@@ -75,6 +83,15 @@ class PairPeriNospd : public Pair {
   std::vector<NOSPD::Lame> lame;
   std::vector<std::string> material_name;
   std::vector<int> active;    // types this style owns (pair hybrid may give others away)
+  std::vector<NOSPD::FlowLaw> flow;          // J2 flow law (flow[i].active: plastic)
+  std::vector<NOSPD::ThermalLaw> thermal;    // expansion, heating, JC failure
+  std::vector<int> inelastic;                // 1: the type needs history (inelastic_point)
+  // user temperature: none (the type's reference), a per-atom property
+  // d_name (fix property/atom) or an atom-style variable v_name
+  enum { TEMP_NONE, TEMP_PROPERTY, TEMP_VARIABLE } temperature_kind;
+  std::string temperature_name;
+  int temperature_index;
+  double *temperature_base;    // per owned atom, filled by the constitutive pass
   double *stab_scalar;    // Silling alpha or hourglass c_hg, per type
   double **cut;
 
@@ -108,7 +125,12 @@ class PairPeriNospd : public Pair {
   }
   double stabilization_energy(int i) const;
   void read_material_file(const std::string &file, const std::string &name, double &E,
-                          double &nu, double &G0);
+                          double &nu, double &G0, std::vector<std::string> &extra);
+  void parse_inelastic(const std::vector<std::string> &words, NOSPD::FlowLaw &fl,
+                       NOSPD::ThermalLaw &th, const std::string &where) const;
+  void check_inelastic(int itype) const;
+  void fill_base_temperature();
+  void inelastic_failure(int i, NOSPD::ReturnStatus st, const NOSPD::Mat3 &F) const;
   void check_material(int itype) const;
 };
 

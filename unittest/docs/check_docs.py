@@ -55,7 +55,8 @@ Material files ("materials")
 ----------------------------
 Every POTDIR/*.nospd file must start with the LAMMPS metadata line
 "# DATE: ... UNITS: si CONTRIBUTOR: ... CITATION: ...", every material line
-must have five words (name E nu density G0, numbers in range) with a
+must have five words (name E nu density G0, numbers in range; inelastic
+keywords may follow, and then G0 may be 0) with a
 comment directly above its entry naming the source, and LAMMPS must load
 every material through "pair_coeff I I FILE NAME delta" (one deck, one atom
 type per material, run 0).
@@ -450,14 +451,21 @@ def material_entries(path):
         if not words:
             continue
         where = f"{os.path.basename(path)}:{k + 1}"
-        if len(words) != 5:
-            fail(f"{where}: a material line has 5 words (name E nu density G0): '{raw}'")
+        if len(words) < 5:
+            fail(f"{where}: a material line has 5 words (name E nu density G0) and optional "
+                 f"inelastic keywords: '{raw}'")
+        if len(words) > 5 and not words[5][0].isalpha():
+            fail(f"{where}: after the 5 numbers only inelastic keywords may follow: '{raw}'")
+        inelastic = len(words) > 5
+        words = words[:5]
         try:
             E, nu, rho, g0 = (float(v) for v in words[1:])
         except ValueError:
             fail(f"{where}: E nu density G0 must be numbers: '{raw}'")
-        if not (E > 0 and -1 < nu < 0.5 and rho > 0 and g0 > 0):
-            fail(f"{where}: values out of range (E > 0, -1 < nu < 0.5, density > 0, G0 > 0)")
+        # G0 = 0 (none given) only for inelastic metals that fail by plastic strain
+        if not (E > 0 and -1 < nu < 0.5 and rho > 0 and (g0 > 0 or (inelastic and g0 == 0))):
+            fail(f"{where}: values out of range (E > 0, -1 < nu < 0.5, density > 0, G0 > 0; "
+                 "G0 = 0 allowed for inelastic entries)")
         if k == 0 or not lines[k - 1].lstrip().startswith("#"):
             fail(f"{where}: material '{words[0]}' has no source comment directly above it")
         if any(e[0] == words[0] for e in entries):

@@ -32,7 +32,7 @@ namespace {
 constexpr double E_YOUNG = 2.5;    // arbitrary units; all checks are relative
 constexpr double NU = 0.3;
 
-const Law ALL_LAWS[] = {Law::SMALL, Law::COROTATIONAL, Law::SVK, Law::NEOHOOKE};
+const Law ALL_LAWS[] = {Law::SMALL, Law::COROTATIONAL, Law::SVK, Law::NEOHOOKE, Law::HENCKY};
 
 const char *law_name(Law law)
 {
@@ -41,6 +41,7 @@ const char *law_name(Law law)
     case Law::COROTATIONAL: return "COROTATIONAL";
     case Law::SVK: return "SVK";
     case Law::NEOHOOKE: return "NEOHOOKE";
+    case Law::HENCKY: return "HENCKY";
   }
   return "?";
 }

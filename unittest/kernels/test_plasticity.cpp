@@ -24,6 +24,7 @@ namespace {
 constexpr double E = 200.0e9, NU = 0.3, SY = 250.0e6;
 
 struct Point {
+  explicit Point(Law l) : law(l) {}
   Law law;
   Lame m = Lame::from_young(E, NU);
   FlowLaw fl;
@@ -110,7 +111,7 @@ struct UniaxialCurve {
 
 void check_uniaxial_curve(Law law, double H, double Hk)
 {
-  Point pt{law};
+  Point pt(law);
   pt.fl.active = true;
   pt.fl.kind = Hardening::LINEAR;
   pt.fl.sigma_y0 = SY;
@@ -148,7 +149,7 @@ TEST(Plasticity, UniaxialLinearIsotropicHencky) { check_uniaxial_curve(Law::HENC
 TEST(Plasticity, UniaxialPowerLaw)
 {
   for (Law law : {Law::SMALL, Law::HENCKY}) {
-    Point pt{law};
+    Point pt(law);
     pt.fl.active = true;
     pt.fl.kind = Hardening::POWER;
     pt.fl.sigma_y0 = SY;
@@ -174,7 +175,7 @@ TEST(Plasticity, UniaxialPowerLaw)
 // the increment's plastic rate, temperature softening included.
 TEST(Plasticity, JohnsonCookRateAndTemperature)
 {
-  Point pt{Law::SMALL};
+  Point pt(Law::SMALL);
   pt.fl.active = true;
   pt.fl.kind = Hardening::JOHNSON_COOK;
   pt.fl.sigma_y0 = 90e6;
@@ -214,7 +215,7 @@ TEST(Plasticity, StressIsIncrementalPotentialGradient)
   std::uniform_real_distribution<double> U(-1.0, 1.0);
   for (Law law : {Law::SMALL, Law::HENCKY}) {
     for (int kind = 0; kind < 4; ++kind) {
-      Point pt{law};
+      Point pt(law);
       pt.fl.active = true;
       pt.fl.sigma_y0 = SY;
       if (kind == 0) { pt.fl.kind = Hardening::LINEAR; pt.fl.H = 2e9; }
@@ -267,7 +268,7 @@ TEST(Plasticity, StressIsIncrementalPotentialGradient)
 // energy and the same history, after plastic flow.
 TEST(Plasticity, HenckyObjectivity)
 {
-  Point pt{Law::HENCKY};
+  Point pt(Law::HENCKY);
   pt.fl.active = true;
   pt.fl.sigma_y0 = SY;
   pt.fl.H = 1e9;
@@ -289,7 +290,8 @@ TEST(Plasticity, HenckyObjectivity)
                                h2.data(), P2, W2), ReturnStatus::OK);
   EXPECT_LT((P2 - Q * P1).cwiseAbs().maxCoeff(), 1e-9 * P1.cwiseAbs().maxCoeff());
   EXPECT_NEAR(W1, W2, 1e-12 * W1);
-  for (int k = 0; k < Hist::SIZE; ++k) EXPECT_NEAR(h1[k], h2[k], 1e-12 * (1.0 + std::abs(h1[k])));
+  // all but the stored F of the step, which rotates
+  for (int k = 0; k < Hist::FPREV; ++k) EXPECT_NEAR(h1[k], h2[k], 1e-12 * (1.0 + std::abs(h1[k])));
   // the elastic Hencky law is the same point without a flow law
   pt.fl.active = false;
   Mat3 Pe;
@@ -305,7 +307,7 @@ TEST(Plasticity, HenckyObjectivity)
 TEST(Plasticity, ThermalStrain)
 {
   for (Law law : {Law::SMALL, Law::HENCKY}) {
-    Point pt{law};
+    Point pt(law);
     pt.th.alpha = 1.2e-5;
     pt.th.T_ref = 293.0;
     pt.env.T_base = 493.0;
@@ -327,7 +329,7 @@ TEST(Plasticity, ThermalStrain)
 // softening of the next step.
 TEST(Plasticity, AdiabaticHeating)
 {
-  Point pt{Law::SMALL};
+  Point pt(Law::SMALL);
   pt.fl.active = true;
   pt.fl.kind = Hardening::JOHNSON_COOK;
   pt.fl.sigma_y0 = SY;
@@ -350,7 +352,7 @@ TEST(Plasticity, AdiabaticHeating)
 // reference rate and temperature the damage is eqps / (D1 + D2 exp(D3/3)).
 TEST(Plasticity, JohnsonCookDamage)
 {
-  Point pt{Law::SMALL};
+  Point pt(Law::SMALL);
   pt.fl.active = true;
   pt.fl.kind = Hardening::LINEAR;
   pt.fl.sigma_y0 = SY;

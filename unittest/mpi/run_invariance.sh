@@ -1,14 +1,15 @@
 #!/bin/bash
 # Decomposition (1, 2, 4 MPI ranks) and restart invariance of one variant.
-# usage: run_invariance.sh LMP DIM "SETTINGS" WORKDIR [STYLE]
+# usage: run_invariance.sh LMP DIM "SETTINGS" WORKDIR [STYLE] ["COEFF"]
 set -euo pipefail
-LMP=$1; DIM=$2; SETTINGS=$3; WORK=$4; STYLE=${5:-peri/nospd}
+LMP=$1; DIM=$2; SETTINGS=$3; WORK=$4; STYLE=${5:-peri/nospd}; COEFF=${6:-}
 HERE=$(cd "$(dirname "$0")" && pwd)
 mkdir -p "$WORK"; cd "$WORK"
 MPIRUN=(mpirun --allow-run-as-root --oversubscribe)
 run() { # nprocs mode out
   "${MPIRUN[@]}" -np "$1" "$LMP" -in "$HERE/in.invariance" -log "$3.log" -screen none \
-    -var dim "$DIM" -var style "$STYLE" -var settings "$SETTINGS" -var mode "$2" -var out "$3"
+    -var dim "$DIM" -var style "$STYLE" -var settings "$SETTINGS" -var mode "$2" -var out "$3" \
+    -var coeff "$COEFF"
 }
 run 1 full serial
 run 2 full np2

@@ -1,0 +1,420 @@
+/* Inelastic correspondence through LAMMPS: thermal expansion (free and
+   clamped), uniaxial tension of a periodic body against the closed-form
+   J2 curve (quasi-static, minimize), energy balance ke + pe + plastic work
+   in NVE, objectivity of the finite-strain model after plastic flow, the
+   history surviving repeated evaluations, damage on plastic strain, and
+   the errors of bad inelastic input. */
+
+#include "nospd_test_util.h"
+#include "nospd_plasticity.h"
+
+#include "domain.h"
+#include "variable.h"
+
+#include "gmock/gmock.h"
+
+#include <Eigen/Geometry>
+
+using namespace nospdtest;
+using ::testing::HasSubstr;
+
+namespace {
+
+constexpr double E = 200e9, NU = 0.3, ALPHA = 1.2e-5;
+
+// per-atom column c of compute nospd/atom ID (called now)
+std::vector<double> peratom(LAMMPS *lmp, const std::string &id, int c)
+{
+  auto *comp = lmp->modify->get_compute_by_id(id);
+  comp->compute_peratom();
+  std::vector<double> out(lmp->atom->natoms);
+  for (int i = 0; i < lmp->atom->nlocal; i++) out[lmp->atom->tag[i] - 1] = comp->array_atom[i][c];
+  return out;
+}
+
+double fmax(LAMMPS *lmp)
+{
+  double m = 0.0;
+  for (int i = 0; i < lmp->atom->nlocal; i++)
+    for (int k = 0; k < 3; k++) m = std::max(m, std::abs(lmp->atom->f[i][k]));
+  return m;
+}
+
+void place_affine(LAMMPS *lmp, const NOSPD::Mat3 &F, const NOSPD::Vec3 &c)
+{
+  double **x = lmp->atom->x, **x0 = lmp->atom->x0;
+  for (int i = 0; i < lmp->atom->nlocal; i++) {
+    const NOSPD::Vec3 X(x0[i][0], x0[i][1], x0[i][2]);
+    const NOSPD::Vec3 y = c + F * (X - c);
+    for (int k = 0; k < 3; k++) x[i][k] = y[k];
+  }
+}
+
+class Inelastic : public ::testing::Test {
+ protected:
+  LAMMPS *lmp = nullptr;
+  void SetUp() override { lmp = open_lammps(); }
+  void TearDown() override { delete lmp; }
+
+  void block(const std::string &settings, const std::string &coeff_extra, int n = 9,
+             bool periodic = false)
+  {
+    Block b;
+    b.n = n;
+    b.periodic = periodic;
+    b.settings = settings;
+    b.E = E;
+    b.nu = NU;
+    make_block(lmp, b);
+    cmd(lmp, "pair_coeff * * " + num(E) + " " + num(NU) + " " + num(b.delta()) + " " + coeff_extra);
+  }
+};
+
+// A free heated block expands without stress: zero force (relative to the
+// clamped block's) at every point, surfaces included, for both kinematics.
+TEST_F(Inelastic, ThermalFreeBlockIsForceFree)
+{
+  for (std::string law : {"small", "hencky"}) {
+    delete lmp;
+    lmp = open_lammps();
+    block("strain " + law + " temperature v_T", "thermal 1.2e-5 293");
+    cmd(lmp, "variable T atom 493.0");
+    const double s = 1.0 + ALPHA * 200.0;
+    place_affine(lmp, s * NOSPD::Mat3::Identity(), NOSPD::Vec3(0.004, 0.004, 0.004));
+    cmd(lmp, "run 0");
+    const double free = fmax(lmp);
+    place_affine(lmp, NOSPD::Mat3::Identity(), NOSPD::Vec3::Zero());
+    cmd(lmp, "run 0");
+    const double clamped = fmax(lmp);
+    EXPECT_GT(clamped, 0.0);
+    EXPECT_LT(free, 1e-12 * clamped) << law;
+  }
+}
+
+// A clamped heated body (periodic: no surface) carries
+// sigma = -E alpha dT / (1 - 2 nu) on the diagonal; the temperature comes
+// from a per-atom property set with the set command.
+TEST_F(Inelastic, ThermalClampedStress)
+{
+  for (std::string law : {"small", "hencky"}) {
+    delete lmp;
+    lmp = open_lammps();
+    block("strain " + law + " temperature d_temp", "thermal 1.2e-5 293", 8, true);
+    cmd(lmp, "fix temp all property/atom d_temp");
+    cmd(lmp, "set group all d_temp 393.0");
+    cmd(lmp, "compute s all nospd/atom stress temperature");
+    cmd(lmp, "run 0");
+    const double expect = -E * ALPHA * 100.0 / (1.0 - 2.0 * NU);
+    for (int c = 0; c < 3; c++) {
+      const auto sig = peratom(lmp, "s", c);
+      for (double v : sig) EXPECT_NEAR(v, expect, 0.005 * std::abs(expect)) << law;
+    }
+    for (double T : peratom(lmp, "s", 6)) EXPECT_DOUBLE_EQ(T, 393.0);
+    const auto fmx = fmax(lmp);
+    EXPECT_LT(fmx, 1e-9 * std::abs(expect) / 1e-3);    // periodic: no net force density
+  }
+}
+
+/* Uniaxial tension of a periodic body: the box is stretched along x in
+   steps; at each the lateral box lengths are found (secant on the mean
+   lateral stress, run 0 evaluations, which accept nothing) so that the
+   lateral stress vanishes, and the step is then accepted by one step
+   without an integrator.  The axial stress follows sigma_y + E_t (eps -
+   eps_y) with E_t = E H/(E + H), unloading the elastic slope, and the
+   plastic strain stays at its peak value while unloading. */
+TEST_F(Inelastic, UniaxialTensionFollowsCurve)
+{
+  const double SY = 250e6, H = 10e9;
+  block("strain small", "yield " + num(SY) + " hardening linear " + num(H), 8, true);
+  cmd(lmp, "compute s all nospd/atom stress eqps");
+  cmd(lmp, "run 0");    // families and the reference box from the undeformed body
+  const double ey = SY / E, Et = E * H / (E + H);
+  double eps = 0.0, lat = 0.0, emax = 0.0;
+  auto set_strain = [&](double ex, double ey_) {
+    cmd(lmp, "change_box all x scale " + num((1.0 + ex) / (1.0 + eps)) + " y scale " +
+                 num((1.0 + ey_) / (1.0 + lat)) + " z scale " + num((1.0 + ey_) / (1.0 + lat)) +
+                 " remap units box");
+    eps = ex;
+    lat = ey_;
+  };
+  auto mean = [&](int c) {
+    const auto v = peratom(lmp, "s", c);
+    double m = 0.0;
+    for (double x : v) m += x / v.size();
+    return m;
+  };
+  auto lateral_stress = [&](double ex, double l) {
+    set_strain(ex, l);
+    cmd(lmp, "run 0");
+    return mean(1);
+  };
+  std::vector<double> path;
+  for (int k = 1; k <= 12; k++) path.push_back(0.5 * k * ey);             // to 6 ey
+  for (int k = 1; k <= 4; k++) path.push_back(6.0 * ey - 0.5 * k * ey);   // unload by 2 ey
+  int checked = 0;
+  for (double target : path) {
+    double l0 = lat, l1 = lat - 0.3 * (target - eps) - 1e-7;
+    double g0 = lateral_stress(target, l0), g1 = lateral_stress(target, l1);
+    for (int it = 0; it < 30 && std::abs(g1) > 1e-6 * SY && g1 != g0; it++) {
+      const double l2 = l1 - g1 * (l1 - l0) / (g1 - g0);
+      l0 = l1;
+      g0 = g1;
+      l1 = l2;
+      g1 = lateral_stress(target, l1);
+    }
+    cmd(lmp, "run 1");    // accept the load step
+    emax = std::max(emax, eps);
+    const double smax = emax > ey ? SY + Et * (emax - ey) : E * emax;
+    const double expect = eps >= emax ? smax : smax - E * (emax - eps);
+    const auto sxx = peratom(lmp, "s", 0);
+    const auto syy = peratom(lmp, "s", 1);
+    for (size_t i = 0; i < sxx.size(); i++) {
+      EXPECT_NEAR(sxx[i], expect, 0.01 * std::abs(expect)) << "eps = " << eps;
+      EXPECT_LT(std::abs(syy[i]), 0.01 * SY) << "lateral stress at eps = " << eps;
+    }
+    checked++;
+  }
+  EXPECT_EQ(checked, 16);
+  // the accepted history: the axial plastic strain of the peak, unchanged by unloading
+  const double ep_peak = 6.0 * ey - (SY + Et * 5.0 * ey) / E;
+  for (double a : peratom(lmp, "s", 6)) EXPECT_NEAR(a, ep_peak, 0.01 * ep_peak);
+}
+
+/* NVE: ke + pe + plastic work (f_NOSPD_BONDS[4]) stays constant while a
+   free block expands, yields and rings; the plastic work is a sizeable
+   share of the initial kinetic energy. */
+void nve_balance(LAMMPS *lmp, double dt, int nsteps, double *share)
+{
+  cmd(lmp, "variable vx atom 8.0*(x-0.004)/0.004");
+  cmd(lmp, "variable vy atom -3.0*(y-0.004)/0.004");
+  cmd(lmp, "velocity all set v_vx v_vy NULL");
+  cmd(lmp, "fix 1 all nve");
+  cmd(lmp, "timestep " + num(dt));
+  cmd(lmp, "variable etot equal ke+pe+f_NOSPD_BONDS[4]");
+  cmd(lmp, "thermo_style custom step ke pe f_NOSPD_BONDS[4] v_etot");
+  cmd(lmp, "run 0");
+  auto *var = lmp->input->variable;
+  const double e0 = var->compute_equal("v_etot");
+  const double ke0 = var->compute_equal("ke");
+  double worst = 0.0;
+  for (int k = 0; k < nsteps / 25; k++) {
+    cmd(lmp, "run 25");
+    worst = std::max(worst, std::abs(var->compute_equal("v_etot") - e0));
+  }
+  *share = var->compute_equal("f_NOSPD_BONDS[4]") / ke0;
+  EXPECT_LT(worst, 1e-4 * e0);
+}
+
+TEST_F(Inelastic, NveEnergyBalanceJ2Small)
+{
+  block("strain small", "yield 1e8 hardening linear 2e9 kinematic 1e9");
+  double share = 0.0;
+  nve_balance(lmp, 5e-9, 1200, &share);
+  EXPECT_GT(share, 0.1);
+}
+
+// Johnson-Cook strain hardening and thermal softening at a raised
+// temperature, finite strain.  Without the rate term (C = 0): an explicit
+// step with a rate-dependent surface does not balance to 1e-4 (see the
+// pair style's doc page and the next test).
+TEST_F(Inelastic, NveEnergyBalanceJohnsonCookHencky)
+{
+  block("strain hencky temperature v_T", "johnson_cook 9e7 2.92e8 0.31 0.0 1.0 1.09 298 1356");
+  cmd(lmp, "variable T atom 500.0");
+  double share = 0.0;
+  nve_balance(lmp, 5e-9, 1200, &share);
+  EXPECT_GT(share, 0.1);
+}
+
+// With the rate term the flow stress of the accepted state exceeds the
+// surface the next increment starts from; the release is booked as plastic
+// work, and the explicit step's force jump leaves a small imbalance
+// (measured 2.3e-3 of the total on this deck): bounded at 5e-3.
+TEST_F(Inelastic, NveEnergyBalanceJohnsonCookRate)
+{
+  block("strain hencky temperature v_T", "johnson_cook 9e7 2.92e8 0.31 0.025 1.0 1.09 298 1356");
+  cmd(lmp, "variable T atom 500.0");
+  cmd(lmp, "variable vx atom 8.0*(x-0.004)/0.004");
+  cmd(lmp, "variable vy atom -3.0*(y-0.004)/0.004");
+  cmd(lmp, "velocity all set v_vx v_vy NULL");
+  cmd(lmp, "fix 1 all nve");
+  cmd(lmp, "timestep 5e-9");
+  cmd(lmp, "variable etot equal ke+pe+f_NOSPD_BONDS[4]");
+  cmd(lmp, "run 0");
+  auto *var = lmp->input->variable;
+  const double e0 = var->compute_equal("v_etot");
+  cmd(lmp, "run 1200");
+  EXPECT_LT(std::abs(var->compute_equal("v_etot") - e0), 5e-3 * e0);
+  EXPECT_GT(var->compute_equal("f_NOSPD_BONDS[4]"), 0.1 * e0);
+}
+
+/* Objectivity after plastic flow (strain hencky): a rigid rotation of the
+   plastically deformed body changes neither the von Mises stress nor the
+   equivalent plastic strain at any point. */
+TEST_F(Inelastic, HenckyRotationAfterPlasticFlow)
+{
+  block("strain hencky", "yield 2e8 hardening power 3e8 0.3", 7);
+  cmd(lmp, "compute s all nospd/atom vonmises eqps");
+  NOSPD::Mat3 F;
+  F << 1.004, 0.003, 0.0, 0.001, 0.998, 0.002, 0.0, -0.001, 0.999;
+  const NOSPD::Vec3 c(0.003, 0.003, 0.003);
+  place_affine(lmp, F, c);
+  cmd(lmp, "run 1");    // one step without an integrator: accepted, atoms stay
+  place_affine(lmp, 1.5 * F - 0.5 * NOSPD::Mat3::Identity(), c);
+  cmd(lmp, "run 1");
+  const auto vm0 = peratom(lmp, "s", 0);
+  const auto ep0 = peratom(lmp, "s", 1);
+  double epmax = 0.0;
+  for (double a : ep0) epmax = std::max(epmax, a);
+  ASSERT_GT(epmax, 1e-3);
+  const NOSPD::Mat3 Q =
+      Eigen::AngleAxisd(0.7, NOSPD::Vec3(1.0, 2.0, -0.5).normalized()).toRotationMatrix();
+  place_affine(lmp, Q * (1.5 * F - 0.5 * NOSPD::Mat3::Identity()), c);
+  cmd(lmp, "run 0");    // evaluated from the same accepted history
+  const auto vm1 = peratom(lmp, "s", 0);
+  const auto ep1 = peratom(lmp, "s", 1);
+  double vmmax = 0.0;
+  for (double v : vm0) vmmax = std::max(vmmax, v);
+  for (size_t i = 0; i < vm0.size(); i++) {
+    EXPECT_NEAR(vm1[i], vm0[i], 1e-9 * vmmax);
+    EXPECT_NEAR(ep1[i], ep0[i], 1e-9 * epmax);
+  }
+}
+
+// Force evaluations without an accepted step (run 0, trial states) never
+// accumulate plastic strain; a step accepts it, and more evaluations at
+// the same configuration leave it as it is.
+TEST_F(Inelastic, TrialEvaluationsDoNotAccumulate)
+{
+  block("strain small", "yield 1e8", 7);
+  cmd(lmp, "compute s all nospd/atom eqps");
+  NOSPD::Mat3 F = NOSPD::Mat3::Identity();
+  F(0, 0) += 0.003;
+  place_affine(lmp, F, NOSPD::Vec3(0.003, 0.003, 0.003));
+  for (int k = 0; k < 3; k++) cmd(lmp, "run 0");
+  for (double a : peratom(lmp, "s", 0)) EXPECT_EQ(a, 0.0);
+  cmd(lmp, "run 1");    // no integrator: the atoms stay, the step is accepted
+  const auto a1 = peratom(lmp, "s", 0);
+  for (int k = 0; k < 3; k++) cmd(lmp, "run 0");
+  cmd(lmp, "run 1");
+  const auto a2 = peratom(lmp, "s", 0);
+  double amax = 0.0;
+  for (size_t i = 0; i < a1.size(); i++) {
+    amax = std::max(amax, a1[i]);
+    EXPECT_NEAR(a2[i], a1[i], 1e-12 * std::max(a1[i], 1e-6));
+  }
+  EXPECT_GT(amax, 1e-3);
+}
+
+// fix nospd/damage eqps: points past the critical plastic strain lose their
+// bonds; with the critical value above the reached strain nothing breaks.
+TEST_F(Inelastic, DamageOnEquivalentPlasticStrain)
+{
+  for (double crit : {1e-3, 0.1}) {
+    delete lmp;
+    lmp = open_lammps();
+    block("strain small", "yield 1e8", 7);
+    cmd(lmp, "fix dmg all nospd/damage eqps " + num(crit));
+    cmd(lmp, "fix 1 all nve");
+    NOSPD::Mat3 F = NOSPD::Mat3::Identity();
+    F(0, 0) += 0.004;
+    place_affine(lmp, F, NOSPD::Vec3(0.003, 0.003, 0.003));
+    cmd(lmp, "run 2");
+    const double broken = lmp->modify->get_fix_by_id("NOSPD_BONDS")->compute_vector(1);
+    if (crit < 0.01) EXPECT_GT(broken, 0.5 * lmp->modify->get_fix_by_id("NOSPD_BONDS")->compute_vector(0));
+    else EXPECT_EQ(broken, 0.0);
+  }
+}
+
+// ---------------------------------------------------------------------------
+// bad input
+
+class InelasticBadInput : public Inelastic {
+ protected:
+  std::string coeff_error(const std::string &settings, const std::string &extra)
+  {
+    Block b;
+    b.n = 5;
+    b.settings = settings;
+    make_block(lmp, b);
+    return error_of(lmp, "pair_coeff * * 200e9 0.3 0.003 " + extra);
+  }
+};
+
+TEST_F(InelasticBadInput, NonPositiveYield)
+{
+  EXPECT_THAT(coeff_error("", "yield -1e8"), HasSubstr("yield stress must be > 0, got -1"));
+}
+TEST_F(InelasticBadInput, ZeroYield)
+{
+  EXPECT_THAT(coeff_error("", "yield 0"), HasSubstr("yield stress must be > 0, got 0"));
+}
+TEST_F(InelasticBadInput, SofteningLinear)
+{
+  EXPECT_THAT(coeff_error("", "yield 1e8 hardening linear -5e8"),
+              HasSubstr("hardening linear H = -500000000 would make the flow stress fall"));
+}
+TEST_F(InelasticBadInput, SofteningPower)
+{
+  EXPECT_THAT(coeff_error("", "yield 1e8 hardening power -1e8 0.3"),
+              HasSubstr("would make the flow stress fall"));
+}
+TEST_F(InelasticBadInput, JohnsonCookMeltBelowReference)
+{
+  EXPECT_THAT(coeff_error("", "johnson_cook 9e7 2.9e8 0.31 0.025 1 1.09 298 250"),
+              HasSubstr("T_melt = 250 must exceed T_ref = 298"));
+}
+TEST_F(InelasticBadInput, MissingValues)
+{
+  EXPECT_THAT(coeff_error("", "johnson_cook 9e7 2.9e8"), HasSubstr("johnson_cook needs 8 value(s)"));
+}
+TEST_F(InelasticBadInput, UnknownKeyword)
+{
+  EXPECT_THAT(coeff_error("", "yeild 1e8"), HasSubstr("unknown keyword 'yeild'"));
+}
+TEST_F(InelasticBadInput, HardeningWithoutYield)
+{
+  EXPECT_THAT(coeff_error("", "hardening linear 1e9"), HasSubstr("need a yield stress"));
+}
+TEST_F(InelasticBadInput, LawWithoutInelasticForm)
+{
+  coeff_error("strain svk", "yield 1e8");
+  EXPECT_THAT(error_of(lmp, "run 0"), HasSubstr("strain svk has no inelastic form"));
+}
+TEST_F(InelasticBadInput, KinematicFiniteStrain)
+{
+  coeff_error("strain hencky", "yield 1e8 kinematic 1e9");
+  EXPECT_THAT(error_of(lmp, "run 0"), HasSubstr("kinematic hardening is implemented for strain small only"));
+}
+TEST_F(InelasticBadInput, HorizonStabilizedStyle)
+{
+  Block b;
+  b.n = 5;
+  b.style = "peri/nospd/hs";
+  make_block(lmp, b);
+  cmd(lmp, "pair_coeff * * 200e9 0.3 0.003 yield 1e8");
+  EXPECT_THAT(error_of(lmp, "run 0"), HasSubstr("not available in the horizon-stabilized style"));
+}
+TEST_F(InelasticBadInput, MissingTemperatureProperty)
+{
+  coeff_error("temperature d_nothere", "thermal 1e-5 293");
+  EXPECT_THAT(error_of(lmp, "run 0"), HasSubstr("temperature d_nothere is not a per-atom"));
+}
+TEST_F(InelasticBadInput, TemperatureNotAtomVariable)
+{
+  coeff_error("temperature v_T", "thermal 1e-5 293");
+  cmd(lmp, "variable T equal 300");
+  EXPECT_THAT(error_of(lmp, "run 0"), HasSubstr("temperature variable T is not atom-style"));
+}
+TEST_F(InelasticBadInput, DamageEqpsWithoutPlasticity)
+{
+  coeff_error("", "");
+  cmd(lmp, "fix dmg all nospd/damage eqps 0.1");
+  EXPECT_THAT(error_of(lmp, "run 0"), HasSubstr("criterion eqps needs a type with plasticity"));
+}
+TEST_F(InelasticBadInput, HeatWithoutPlasticity)
+{
+  EXPECT_THAT(coeff_error("", "heat 450 0.9"), HasSubstr("heat and jc_failure need plasticity"));
+}
+
+}    // namespace
