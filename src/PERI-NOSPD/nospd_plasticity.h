@@ -49,7 +49,11 @@ namespace Hist {
   constexpr int DAMAGE = 15;    // Johnson-Cook damage sum(d eps_p / eps_f)
   constexpr int YIELDING = 16;  // 1 if the last accepted increment yielded
   constexpr int FPREV = 17;     // 9: F - I of the accepted step (row-major)
-  constexpr int SIZE = 26;
+  constexpr int PACC = 26;      // 9: P of the accepted step
+  constexpr int WACC = 35;      // W_e of the accepted step
+  constexpr int TACC = 36;      // user temperature of the accepted step
+  constexpr int VALID = 37;     // 1 once PACC, WACC, TACC hold an accepted state
+  constexpr int SIZE = 38;
 }    // namespace Hist
 
 enum class Hardening { LINEAR, POWER, JOHNSON_COOK };
@@ -377,19 +381,47 @@ inline ReturnStatus inelastic_point_3d(Law law, const Lame &m, const FlowLaw &fl
 }
 
 /* The same under the plane assumption (plane stress solves F33 for P33 = 0
-   with the history of the step start, as the elastic laws do). */
+   with the history of the step start, as the elastic laws do).
+
+   At the configuration and temperature of the accepted step itself (to
+   1e-12 in F) the point returns the accepted state: the force evaluation
+   that starts a run, or a run 0 after one, then gives the forces of the
+   step that was accepted there.  Re-running the return from the accepted
+   history would not, for a rate-dependent flow stress (the zero increment
+   has no rate), and a run continued from a restart would leave the path
+   of the uninterrupted run. */
 inline ReturnStatus inelastic_point(Law law, Plane plane, const Lame &m, const FlowLaw &fl,
                                     const ThermalLaw &th, const PointEnv &env, Mat3 &F,
                                     const double *hn, double *h1, Mat3 &P, double &W)
 {
-  if (plane != Plane::STRESS) return inelastic_point_3d(law, m, fl, th, env, F, hn, h1, P, W);
+  if (hn[Hist::VALID] > 0.0 && hn[Hist::TACC] == env.T_base) {
+    const Mat3 Fa = Mat3::Identity() + load(hn + Hist::FPREV);
+    Mat3 d = F - Fa;
+    if (plane == Plane::STRESS) d(2, 2) = 0.0;
+    if (d.cwiseAbs().maxCoeff() <= 1.0e-12) {
+      for (int k = 0; k < Hist::SIZE; ++k) h1[k] = hn[k];
+      if (plane == Plane::STRESS) F(2, 2) = Fa(2, 2);
+      P = load(hn + Hist::PACC);
+      W = hn[Hist::WACC];
+      return ReturnStatus::OK;
+    }
+  }
   ReturnStatus st = ReturnStatus::OK;
-  auto eval = [&](const Mat3 &Ft, Mat3 &Pt, double &Wt) {
-    st = inelastic_point_3d(law, m, fl, th, env, Ft, hn, h1, Pt, Wt);
-    return st == ReturnStatus::OK;
-  };
-  if (!solve_plane_stress(m, F, P, W, eval))
-    return st == ReturnStatus::OK ? ReturnStatus::NO_CONVERGENCE : st;
+  if (plane != Plane::STRESS) {
+    st = inelastic_point_3d(law, m, fl, th, env, F, hn, h1, P, W);
+  } else {
+    auto eval = [&](const Mat3 &Ft, Mat3 &Pt, double &Wt) {
+      st = inelastic_point_3d(law, m, fl, th, env, Ft, hn, h1, Pt, Wt);
+      return st == ReturnStatus::OK;
+    };
+    if (!solve_plane_stress(m, F, P, W, eval) && st == ReturnStatus::OK)
+      st = ReturnStatus::NO_CONVERGENCE;
+  }
+  if (st != ReturnStatus::OK) return st;
+  store(P, h1 + Hist::PACC);
+  h1[Hist::WACC] = W;
+  h1[Hist::TACC] = env.T_base;
+  h1[Hist::VALID] = 1.0;
   return ReturnStatus::OK;
 }
 

@@ -30,7 +30,7 @@ of the literal blocks in that section (``.. code-block::``,
 ``.. parsed-literal::`` or a paragraph ending in "::"); "&" continues a line.
   * A pair_style line and the pair_coeff lines after it form one group, run
     as one deck.  The point spacing is the smallest horizon (last number of
-    a pair_coeff line) / 3.01, the number of atom types the largest type
+    a pair_coeff line before its inelastic keywords) / 3.01, the number of atom types the largest type
     number in the pair_coeff lines (types fill slabs along x).
   * Every other line (compute, fix, dump, variable, thermo_style, ...) runs
     in its own deck with the most recent pair group of the same page, or
@@ -249,8 +249,16 @@ class Deck:
             w = line.split()
             if w[0] == "pair_coeff" and len(w) >= 3:
                 ntypes = max(ntypes, type_bound(w[1]), type_bound(w[2]))
-                if numeric(w[-1]):
-                    deltas.append(float(w[-1]))
+                # the horizon is the last number before the inelastic
+                # keywords (the first word after I J that starts with a letter
+                # and follows a number)
+                head = w
+                for k in range(4, len(w)):
+                    if w[k][0].isalpha() and numeric(w[k - 1]):
+                        head = w[:k]
+                        break
+                if numeric(head[-1]):
+                    deltas.append(float(head[-1]))
         dx = min(deltas) / 3.01 if deltas else (0.001 if self.pair else 0.01)
         return dx, ntypes
 
