@@ -10,16 +10,22 @@ OUT=$HERE/results; mkdir -p "$OUT"
 export LAMMPS_PLUGIN_PATH=$(cd "$PLUGIN_DIR" && pwd) OMP_NUM_THREADS=1
 CSV=$OUT/throughput.csv
 echo "model,settings,points,steps,best_loop_s,point_steps_per_s,ratio_to_lps,state_bytes_per_point" > "$CSV"
+# style|pair_style keywords[|pair_coeff keywords after the horizon]
 declare -a MODELS=("pmb|" "lps|" "nospd|stabilization none" "nospd|stabilization silling 0.5"
   "nospd|stabilization hourglass 0.2" "nospd|stabilization wan" "nospd|strain finite"
-  "nospd|strain neohookean" "hs|form II" "hs|form I")
+  "nospd|strain neohookean"
+  "nospd|strain small|yield 1e9" "nospd|strain small|yield 2e6 hardening linear 1e9"
+  "nospd|strain hencky|yield 2e6 hardening linear 1e9"
+  "nospd|strain hencky|johnson_cook 2e6 1e8 0.3 0.01 1 1 293 1000 heat 900 0.9"
+  "hs|form II" "hs|form I")
 lps_rate=""
 for m in "${MODELS[@]}"; do
-  style=${m%%|*}; settings=${m#*|}
+  style=${m%%|*}; rest=${m#*|}; settings=${rest%%|*}; coeff=""
+  [ "$rest" != "$settings" ] && coeff=${rest#*|}
   best=""
   for r in $(seq "$REPEATS"); do
     "$LMP" -in "$HERE/in.block" -var n "$N" -var style "$style" -var settings "$settings" \
-      -var steps "$STEPS" -log none -screen "$OUT/screen.txt"
+      -var coeff "$coeff" -var steps "$STEPS" -log none -screen "$OUT/screen.txt"
     t=$(grep "Loop time" "$OUT/screen.txt" | tail -1 | awk '{print $4}')
     best=$(awk -v a="${best:-1e30}" -v b="$t" 'BEGIN{print (b<a)?b:a}')
   done
@@ -30,9 +36,10 @@ for m in "${MODELS[@]}"; do
   rate=$(awk -v p="$points" -v s="$STEPS" -v t="$best" 'BEGIN{printf "%.4g", p*s/t}')
   [ "$style" = lps ] && lps_rate=$rate
   ratio=$(awk -v a="$rate" -v b="${lps_rate:-0}" 'BEGIN{ if (b>0) printf "%.3g", a/b; else print "" }')
-  echo "peri/${style},$settings,$points,$STEPS,$best,$rate,$ratio,${mem:-}" >> "$CSV"
+  label="$settings${coeff:+ / $coeff}"
+  echo "peri/${style},$label,$points,$STEPS,$best,$rate,$ratio,${mem:-}" >> "$CSV"
   [ "$style" = hs ] && style=nospd/hs
-  printf "%-10s %-34s %9s point-steps/s  x%-6s vs peri/lps  %s B/point\n" "peri/$style" "$settings" "$rate" "$ratio" "${mem:-n/a}"
+  printf "%-10s %-34s %9s point-steps/s  x%-6s vs peri/lps  %s B/point\n" "peri/$style" "$label" "$rate" "$ratio" "${mem:-n/a}"
 done
 rm -f "$OUT/screen.txt"
 echo "wrote $CSV"

@@ -15,8 +15,17 @@
      construction and reduces to the Hencky hyperelastic law while elastic.
 
    The return is backward Euler; the flow stress of the increment is
-   sigma_y(a_n + da, da/dt, T_n): temperature and history of the start of
-   the step (isothermal split), the rate of the increment itself.
+   sigma_y(a_n + da, rate_n, T_n): temperature and history of the last
+   accepted step (isothermal split), and the equivalent deviatoric strain
+   rate of that step, sqrt(2/3 dev D : dev D) with D from the change of F
+   over the step (lagged by one step; the total rate, as explicit codes
+   take for the Johnson-Cook rate term, because it is continuous where the
+   plastic rate jumps between yielding and elastic steps).  With the rate
+   and temperature frozen over the step the return is an exact
+   minimization (closed form for linear hardening), and the surface a step
+   starts from moves only as much as the strain rate changes between two
+   steps: the explicit step then nearly conserves energy as it does for
+   rate-independent flow.
 
    Energy: the stored energy W_e(eps_e) goes to pe.  The plastic work of the
    increment is the increment of the incremental potential,
@@ -53,7 +62,8 @@ namespace Hist {
   constexpr int WACC = 35;      // W_e of the accepted step
   constexpr int TACC = 36;      // user temperature of the accepted step
   constexpr int VALID = 37;     // 1 once PACC, WACC, TACC hold an accepted state
-  constexpr int SIZE = 38;
+  constexpr int RATE = 38;      // equivalent deviatoric strain rate of the step
+  constexpr int SIZE = 39;
 }    // namespace Hist
 
 enum class Hardening { LINEAR, POWER, JOHNSON_COOK };
@@ -111,44 +121,25 @@ struct FlowLaw {
     return Ts > 0.0 ? 1.0 - std::pow(Ts, m) : 1.0;
   }
 
-  // sigma_y(a_n + d, d/dt, T) and d sigma_y / d d
-  double flow(double a_n, double d, double dt, double T, double &slope) const
+  // sigma_y(a_n + d, rate, T) and d sigma_y / d d (rate and T frozen)
+  double flow(double a_n, double d, double rate, double T, double &slope) const
   {
     double sh, sr;
     const double h = hardening(a_n + d, sh);
-    const double rate = dt > 0.0 ? d / dt : 0.0;
-    const double r = rate_factor(rate, sr);
-    const double th = thermal_factor(T);
-    slope = th * (sh * r + h * sr / (dt > 0.0 ? dt : 1.0));
-    return th * h * r;
+    const double f = thermal_factor(T) * rate_factor(rate, sr);
+    slope = f * sh;
+    return f * h;
   }
 
-  // int_0^d sigma_y(a_n + s, s/dt, T) ds: closed form without a rate
-  // term; otherwise Gauss-Legendre in t with s = d t^2, which smooths the
-  // a^n and log singularities at s = 0
-  double work(double a_n, double d, double dt, double T) const
+  // int_0^d sigma_y(a_n + s, rate, T) ds, in closed form
+  double work(double a_n, double d, double rate, double T) const
   {
     if (d <= 0.0) return 0.0;
-    const double th = thermal_factor(T);
-    const bool rate_term = (kind == Hardening::JOHNSON_COOK && C != 0.0 && dt > 0.0);
-    if (!rate_term) {
-      if (kind == Hardening::LINEAR) return th * (sigma_y0 * d + H * (a_n * d + 0.5 * d * d));
-      const double a1 = a_n + d;
-      return th * (sigma_y0 * d + K / (n + 1.0) * (std::pow(a1, n + 1.0) - std::pow(a_n, n + 1.0)));
-    }
-    static const double gx[8] = {-0.9602898564975363, -0.7966664774136267, -0.5255324099163290,
-                                 -0.1834346424956498, 0.1834346424956498,  0.5255324099163290,
-                                 0.7966664774136267,  0.9602898564975363};
-    static const double gw[8] = {0.1012285362903763, 0.2223810344533745, 0.3137066458778873,
-                                 0.3626837833783620, 0.3626837833783620, 0.3137066458778873,
-                                 0.2223810344533745, 0.1012285362903763};
-    double sum = 0.0, dummy;
-    for (int q = 0; q < 8; ++q) {
-      const double t = 0.5 * (gx[q] + 1.0);
-      const double s = d * t * t;
-      sum += 0.5 * gw[q] * 2.0 * d * t * flow(a_n, s, dt, T, dummy);
-    }
-    return sum;
+    double sr;
+    const double f = thermal_factor(T) * rate_factor(rate, sr);
+    if (kind == Hardening::LINEAR) return f * (sigma_y0 * d + H * (a_n * d + 0.5 * d * d));
+    const double a1 = a_n + d;
+    return f * (sigma_y0 * d + K / (n + 1.0) * (std::pow(a1, n + 1.0) - std::pow(a_n, n + 1.0)));
   }
 };
 
@@ -164,7 +155,7 @@ struct ThermalLaw {
 
 // What the point needs from its surroundings.
 struct PointEnv {
-  double dt = 0.0;        // time step of the increment (rate term)
+  double dt = 0.0;        // time step of the increment (plastic rate)
   double T_base = 0.0;    // temperature set by the user (adiabatic rise is added)
   double rho = 0.0;       // mass density (heating)
 };
@@ -193,23 +184,22 @@ namespace detail {
      solves q - (3 mu + Hkin) d - sigma_y(a_n + d) = 0 for d >= 0 by
      Newton's method kept inside a shrinking bracket [lo, hi].  Returns
      false if it does not converge. */
-  inline bool solve_return(const FlowLaw &fl, double mu, double q, double a_n, double dt,
+  inline bool solve_return(const FlowLaw &fl, double mu, double q, double a_n, double rate,
                            double T, double &d)
   {
     const double g3 = 3.0 * mu + fl.Hkin;
     double lo = 0.0, hi = q / g3;    // r(lo) > 0 >= r(hi) since sigma_y >= 0
     if (fl.kind == Hardening::LINEAR) {
-      const double th = fl.thermal_factor(T);
       double s;
-      const double f = q - th * fl.hardening(a_n, s);
-      d = f / (g3 + th * fl.H);
+      const double f = fl.thermal_factor(T) * fl.rate_factor(rate, s);
+      d = (q - f * fl.hardening(a_n, s)) / (g3 + f * fl.H);
       return std::isfinite(d);
     }
     const double scale = std::max(q, 1.0e-300);
     d = 0.5 * hi;
     for (int it = 0; it < 200; ++it) {
       double slope;
-      const double r = q - g3 * d - fl.flow(a_n, d, dt, T, slope);
+      const double r = q - g3 * d - fl.flow(a_n, d, rate, T, slope);
       if (std::abs(r) <= 1.0e-14 * scale || (hi - lo) <= 1.0e-16 * hi) return true;
       if (r > 0.0) lo = d;
       else hi = d;
@@ -254,11 +244,12 @@ namespace detail {
       const double norm = eta.norm();
       const double q = std::sqrt(1.5) * norm;
       const double a_n = hn[Hist::EQPS];
+      const double rate_n = hn[Hist::RATE];
       double s0;
-      const double sy = fl.thermal_factor(T) * fl.hardening(a_n, s0);
+      const double sy = fl.flow(a_n, 0.0, rate_n, T, s0);
       if (q > sy && norm > 0.0) {
         double d = 0.0;
-        if (!solve_return(fl, m.mu, q, a_n, env.dt, T, d) || !(d >= 0.0)) return false;
+        if (!solve_return(fl, m.mu, q, a_n, rate_n, T, d) || !(d >= 0.0)) return false;
         const Mat3 N = (1.5 / q) * eta;    // flow direction, dep = d N, |N| = sqrt(3/2)
         dep = d * N;
         e -= dep;
@@ -269,7 +260,7 @@ namespace detail {
         h1[Hist::YIELDING] = 1.0;
         // plastic work: flow-stress integral plus the change of the
         // kinematic stored energy (3/4) |beta|^2 / Hkin
-        double dD = fl.work(a_n, d, env.dt, T);
+        double dD = fl.work(a_n, d, rate_n, T);
         if (fl.Hkin > 0.0)
           dD += 0.75 * (beta1.squaredNorm() - beta.squaredNorm()) / fl.Hkin;
         h1[Hist::WORK] = hn[Hist::WORK] + dD;
@@ -278,8 +269,7 @@ namespace detail {
         if (th.failure) {
           const double seq = von_mises(stress);
           const double sstar = seq > 0.0 ? stress.trace() / (3.0 * seq) : 0.0;
-          const double rate = env.dt > 0.0 ? d / env.dt : 0.0;
-          h1[Hist::DAMAGE] = hn[Hist::DAMAGE] + d / failure_strain(th, fl, sstar, rate, T);
+          h1[Hist::DAMAGE] = hn[Hist::DAMAGE] + d / failure_strain(th, fl, sstar, rate_n, T);
         }
       }
     }
@@ -363,6 +353,14 @@ inline ReturnStatus inelastic_point_3d(Law law, const Lame &m, const FlowLaw &fl
   double W_trial;
   const ReturnStatus st = detail::point_core(law, m, fl, th, env, F, hn, h1, P, W, W_trial);
   if (st != ReturnStatus::OK) return st;
+  const Mat3 dF = F - Mat3::Identity() - load(hn + Hist::FPREV);
+  h1[Hist::RATE] = 0.0;
+  if (env.dt > 0.0) {
+    const Mat3 L = (law == Law::SMALL) ? dF : Mat3(dF * F.inverse());
+    Mat3 D = 0.5 * (L + L.transpose());
+    D -= (D.trace() / 3.0) * Mat3::Identity();
+    h1[Hist::RATE] = std::sqrt(2.0 / 3.0) * D.norm() / env.dt;
+  }
   if (fl.active && fl.kind == Hardening::JOHNSON_COOK) {
     double hp[Hist::SIZE];
     Mat3 Pp;

@@ -172,7 +172,8 @@ TEST(Plasticity, UniaxialPowerLaw)
 }
 
 // Johnson-Cook at a constant strain rate: the stress is the flow stress at
-// the increment's plastic rate, temperature softening included.
+// the equivalent deviatoric strain rate of the previous increment (lagged
+// by one step), with temperature softening.
 TEST(Plasticity, JohnsonCookRateAndTemperature)
 {
   Point pt(Law::SMALL);
@@ -188,20 +189,30 @@ TEST(Plasticity, JohnsonCookRateAndTemperature)
   pt.fl.T_melt = 1356.0;
   pt.env.dt = 1e-6;    // 1e-3 strain per step: rate 1e3 /s
   pt.env.T_base = 500.0;
-  double e2 = 0.0, prev_a = 0.0;
+  // the equivalent deviatoric rate of an increment of the small strain
+  auto eq_rate = [&](const Mat3 &dF) {
+    Mat3 D = 0.5 * (dF + dF.transpose());
+    D -= (D.trace() / 3.0) * Mat3::Identity();
+    return std::sqrt(2.0 / 3.0) * D.norm() / pt.env.dt;
+  };
+  double e2 = 0.0, rate_prev = 0.0;
+  Mat3 F_prev = Mat3::Identity();
   int plastic = 0;
   for (int k = 1; k <= 50; ++k) {
     const double s = uniaxial(pt, 0.001 * k, e2);
     const double a = pt.h[Hist::EQPS];
-    if (a > 0.0 && prev_a > 0.0) {
+    const Mat3 F = Mat3::Identity() + load(pt.h.data() + Hist::FPREV);
+    const double rate = eq_rate(F - F_prev);
+    EXPECT_NEAR(pt.h[Hist::RATE], rate, 1e-9 * rate);
+    if (a > 0.0 && k > 2) {
       plastic++;
-      const double rate = (a - prev_a) / pt.env.dt;
       const double Ts = (500.0 - 298.0) / (1356.0 - 298.0);
-      const double sy = (90e6 + 292e6 * std::pow(a, 0.31)) * (1.0 + 0.025 * std::log(rate)) *
+      const double sy = (90e6 + 292e6 * std::pow(a, 0.31)) * (1.0 + 0.025 * std::log(rate_prev)) *
           (1.0 - std::pow(Ts, 1.09));
       EXPECT_NEAR(s, sy, 1e-10 * sy);
     }
-    prev_a = a;
+    rate_prev = rate;
+    F_prev = F;
   }
   EXPECT_GT(plastic, 40);
 }
