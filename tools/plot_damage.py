@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Draw the damage of a 2D peridynamic body from a LAMMPS custom dump.
 
-usage: plot_damage.py DUMP OUT.png [--title TEXT] [--vmax 0.6]
+usage: plot_damage.py DUMP OUT.png [--title TEXT] [--vmax 0.6] [--column NAME --label TEXT]
                       [--plane xy|xz|zy] [--slab=LO,HI] [--spacing MM]
                       [--xlim=LO,HI] [--ylim=LO,HI]
 
@@ -26,6 +26,9 @@ def main():
     ap.add_argument("out")
     ap.add_argument("--title", default="")
     ap.add_argument("--vmax", type=float, default=0.6)
+    ap.add_argument("--column", default="",
+                    help="colour by this dump column instead of the damage (e.g. c_s[1])")
+    ap.add_argument("--label", default="damage", help="colour-bar label")
     ap.add_argument("--plane", default="xy")
     ap.add_argument("--slab", default="")
     ap.add_argument("--xlim", default="")
@@ -35,7 +38,7 @@ def main():
     a = ap.parse_args()
     step, d = read_dump(a.dump)
     h_, v_ = a.plane[0], a.plane[1]
-    x, y, dm = d[h_] * 1e3, d[v_] * 1e3, damage_column(d)
+    x, y, dm = d[h_] * 1e3, d[v_] * 1e3, (d[a.column] if a.column else damage_column(d))
     if a.slab:
         third = ({"x", "y", "z"} - {h_, v_}).pop()
         lo, hi = (float(t) for t in a.slab.split(","))
@@ -59,7 +62,7 @@ def main():
     ax.set_xlabel(f"{h_} (mm)")
     ax.set_ylabel(f"{v_} (mm)")
     ax.set_title(a.title or f"{a.dump}: damage, step {step}")
-    fig.colorbar(s, ax=ax, label="damage", shrink=0.8)
+    fig.colorbar(s, ax=ax, label=a.label, shrink=0.8)
     ax.set_xlim(x.min() - spacing, x.max() + spacing)
     ax.set_ylim(y.min() - spacing, y.max() + spacing)
     fig.tight_layout()
