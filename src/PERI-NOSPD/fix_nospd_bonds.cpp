@@ -372,12 +372,17 @@ void FixNospdBonds::build_bond_arrays()
   int anymissing = 0;
   MPI_Allreduce(&nmissing, &anymissing, 1, MPI_INT, MPI_SUM, world);
   if (anymissing) {
+    // a line-search minimizer moves atoms by up to min_modify dmax (0.1
+    // distance units by default: 10 cm in SI) in its first trial step
+    const std::string hint = (update->whichflag == 2)
+        ? "; under minimize, set min_modify dmax to a fraction of the point spacing"
+        : "";
     if (nmissing)
       error->one(FLERR,
                  "Fix {}: bond partner {} of atom {} is not on this rank nor a ghost ({} "
                  "such bonds): a bond stretched beyond the ghost cutoff; increase it with "
-                 "comm_modify cutoff or break such bonds with a damage fix",
-                 style, missing_tag, missing_of, nmissing);
+                 "comm_modify cutoff or break such bonds with a damage fix{}",
+                 style, missing_tag, missing_of, nmissing, hint);
     error->all(FLERR, "Fix {}: bond partners lost on another rank", style);
   }
 }

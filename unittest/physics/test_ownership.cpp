@@ -6,6 +6,8 @@
 
 #include "nospd_test_util.h"
 
+#include <cstdio>
+
 #include "fix_nospd_bonds.h"
 
 using namespace nospdtest;
@@ -76,6 +78,7 @@ TEST(Ownership, BrokenCountSurvivesRestart)
   cmd(lmp, "write_restart ownership.restart");
   cmd(lmp, "clear");
   cmd(lmp, "read_restart ownership.restart");
+  std::remove("ownership.restart");    // ctest runs in the build folder; leave nothing behind
   cmd(lmp, "run 0");
   EXPECT_EQ(bonds(lmp)->compute_vector(1), before);
   delete lmp;

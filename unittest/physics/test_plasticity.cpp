@@ -9,6 +9,7 @@
 #include "nospd_plasticity.h"
 
 #include "domain.h"
+#include "min.h"
 #include "variable.h"
 
 #include "gmock/gmock.h"
@@ -284,6 +285,44 @@ TEST_F(Inelastic, TrialEvaluationsDoNotAccumulate)
   EXPECT_GT(amax, 1e-3);
 }
 
+// minimize is one load step: its line-search evaluations accept nothing,
+// its converged state is accepted at its end.  A periodic body strained
+// past yield and perturbed relaxes back to the uniform state; its plastic
+// strain is that of the same strain accepted by one step without
+// perturbation (line searches that accumulated plastic strain would
+// overshoot it).
+TEST_F(Inelastic, MinimizeIsOneLoadStep)
+{
+  std::vector<double> eq[2];
+  for (int k = 0; k < 2; k++) {
+    delete lmp;
+    lmp = open_lammps();
+    block("strain small", "yield 1e8 hardening linear 2e9", 8, true);
+    cmd(lmp, "compute s all nospd/atom eqps");
+    cmd(lmp, "run 0");
+    cmd(lmp, "change_box all x scale 1.003 y scale 0.999 remap units box");
+    if (k == 0) {
+      cmd(lmp, "displace_atoms all random 2e-6 2e-6 2e-6 4411 units box");
+      // the largest trial move of the line search: a fraction of the spacing
+      cmd(lmp, "min_modify dmax 1e-5");
+      cmd(lmp, "minimize 0.0 1e-12 2000 20000");
+      EXPECT_GT(lmp->update->minimize->niter, 3);
+    } else {
+      cmd(lmp, "run 1");
+    }
+    eq[k] = peratom(lmp, "s", 0);
+    for (int r = 0; r < 2; r++) cmd(lmp, "run 0");    // evaluations keep it
+    const auto again = peratom(lmp, "s", 0);
+    for (size_t i = 0; i < again.size(); i++) EXPECT_EQ(again[i], eq[k][i]);
+  }
+  double amax = 0.0;
+  for (size_t i = 0; i < eq[1].size(); i++) {
+    amax = std::max(amax, eq[1][i]);
+    EXPECT_NEAR(eq[0][i], eq[1][i], 1e-4 * eq[1][i]);
+  }
+  EXPECT_GT(amax, 1e-3);
+}
+
 // fix nospd/damage eqps: points past the critical plastic strain lose their
 // bonds; with the critical value above the reached strain nothing breaks.
 TEST_F(Inelastic, DamageOnEquivalentPlasticStrain)
@@ -389,6 +428,18 @@ TEST_F(InelasticBadInput, DamageEqpsWithoutPlasticity)
   coeff_error("", "");
   cmd(lmp, "fix dmg all nospd/damage eqps 0.1");
   EXPECT_THAT(error_of(lmp, "run 0"), HasSubstr("criterion eqps needs a type with plasticity"));
+}
+// a line search's first trial move (min_modify dmax, 0.1 m by default in SI)
+// throws atoms out of reach: the error says what to change
+TEST_F(InelasticBadInput, MinimizeDefaultDmaxNamed)
+{
+  Block b;
+  b.n = 8;
+  b.periodic = true;
+  make_block(lmp, b);
+  cmd(lmp, "run 0");
+  cmd(lmp, "displace_atoms all random 2e-6 2e-6 2e-6 4411 units box");
+  EXPECT_THAT(error_of(lmp, "minimize 0.0 1e-12 100 1000"), HasSubstr("min_modify dmax"));
 }
 TEST_F(InelasticBadInput, HeatWithoutPlasticity)
 {
