@@ -89,6 +89,22 @@ double uniaxial(Point &pt, double e1, double &e2)
   return stress_measure(pt.law, F, pt.step(F, W))(0, 0);
 }
 
+// a Johnson-Cook flow law (reference rate 1/s)
+void set_johnson_cook(FlowLaw &fl, double A, double B, double n, double C, double m,
+                      double T_ref, double T_melt)
+{
+  fl.active = true;
+  fl.kind = Hardening::JOHNSON_COOK;
+  fl.sigma_y0 = A;
+  fl.K = B;
+  fl.n = n;
+  fl.C = C;
+  fl.rate0 = 1.0;
+  fl.m = m;
+  fl.T_ref = T_ref;
+  fl.T_melt = T_melt;
+}
+
 // The closed-form uniaxial J2 curve for linear isotropic (H) and kinematic
 // (Hk) hardening along a strain path, as a small state machine.
 struct UniaxialCurve {
@@ -177,16 +193,7 @@ TEST(Plasticity, UniaxialPowerLaw)
 TEST(Plasticity, JohnsonCookRateAndTemperature)
 {
   Point pt(Law::SMALL);
-  pt.fl.active = true;
-  pt.fl.kind = Hardening::JOHNSON_COOK;
-  pt.fl.sigma_y0 = 90e6;
-  pt.fl.K = 292e6;
-  pt.fl.n = 0.31;
-  pt.fl.C = 0.025;
-  pt.fl.rate0 = 1.0;
-  pt.fl.m = 1.09;
-  pt.fl.T_ref = 298.0;
-  pt.fl.T_melt = 1356.0;
+  set_johnson_cook(pt.fl, 90e6, 292e6, 0.31, 0.025, 1.09, 298.0, 1356.0);
   pt.env.dt = 1e-6;    // 1e-3 strain per step: rate 1e3 /s
   pt.env.T_base = 500.0;
   // the equivalent deviatoric rate of an increment of the small strain
@@ -232,8 +239,9 @@ TEST(Plasticity, StressIsIncrementalPotentialGradient)
       if (kind == 0) { pt.fl.kind = Hardening::LINEAR; pt.fl.H = 2e9; }
       if (kind == 1) { pt.fl.kind = Hardening::POWER; pt.fl.K = 400e6; pt.fl.n = 0.4; }
       if (kind == 2) {
-        pt.fl.kind = Hardening::JOHNSON_COOK; pt.fl.K = 400e6; pt.fl.n = 0.4; pt.fl.C = 0.03;
-        pt.fl.T_melt = 1500.0; pt.fl.m = 1.0; pt.env.T_base = 400.0; pt.env.dt = 1e-7;
+        set_johnson_cook(pt.fl, SY, 400e6, 0.4, 0.03, 1.0, 293.0, 1500.0);
+        pt.env.T_base = 400.0;
+        pt.env.dt = 1e-7;
       }
       if (kind == 3) {
         if (law == Law::HENCKY) continue;
@@ -341,13 +349,7 @@ TEST(Plasticity, ThermalStrain)
 TEST(Plasticity, AdiabaticHeating)
 {
   Point pt(Law::SMALL);
-  pt.fl.active = true;
-  pt.fl.kind = Hardening::JOHNSON_COOK;
-  pt.fl.sigma_y0 = SY;
-  pt.fl.K = 300e6;
-  pt.fl.n = 0.3;
-  pt.fl.T_ref = 293.0;
-  pt.fl.T_melt = 1700.0;
+  set_johnson_cook(pt.fl, SY, 300e6, 0.3, 0.0, 1.0, 293.0, 1700.0);
   pt.th.cp = 450.0;
   pt.th.chi = 0.9;
   pt.env.T_base = 293.0;
