@@ -170,11 +170,8 @@ int ComputeNospdAtom::history_columns(int i, int q, double *row, int c) const
       if (pair->law() == NOSPD::Law::SMALL) {
         for (int k = 0; k < 6; k++) row[c + k] = p[k];
       } else {
-        Mat3 Cpinv;
-        Cpinv << 1.0 + p[0], p[3], p[4], p[3], 1.0 + p[1], p[5], p[4], p[5], 1.0 + p[2];
-        const Mat3 Ep = 0.5 * (Cpinv.inverse() - Mat3::Identity());
-        const double v[6] = {Ep(0, 0), Ep(1, 1), Ep(2, 2), Ep(0, 1), Ep(0, 2), Ep(1, 2)};
-        for (int k = 0; k < 6; k++) row[c + k] = v[k];
+        const Mat3 Cpinv = Mat3::Identity() + NOSPD::load_sym(p);
+        NOSPD::store_sym(0.5 * (Cpinv.inverse() - Mat3::Identity()), row + c);
       }
       break;
     }

@@ -164,22 +164,6 @@ enum class ReturnStatus { OK, NO_CONVERGENCE, BAD_DEFORMATION };
 
 namespace detail {
 
-  inline Mat3 sym_from6(const double *v)
-  {
-    Mat3 m;
-    m << v[0], v[3], v[4], v[3], v[1], v[5], v[4], v[5], v[2];
-    return m;
-  }
-  inline void sym_to6(const Mat3 &m, double *v)
-  {
-    v[0] = m(0, 0);
-    v[1] = m(1, 1);
-    v[2] = m(2, 2);
-    v[3] = 0.5 * (m(0, 1) + m(1, 0));
-    v[4] = 0.5 * (m(0, 2) + m(2, 0));
-    v[5] = 0.5 * (m(1, 2) + m(2, 1));
-  }
-
   /* Radial return of the deviatoric trial stress eta = s_trial - beta_n:
      solves q - (3 mu + Hkin) d - sigma_y(a_n + d) = 0 for d >= 0 by
      Newton's method kept inside a shrinking bracket [lo, hi].  Returns
@@ -239,7 +223,7 @@ namespace detail {
     dep.setZero();
     h1[Hist::YIELDING] = 0.0;
     if (fl.active) {
-      const Mat3 beta = sym_from6(hn + Hist::BACK);
+      const Mat3 beta = load_sym(hn + Hist::BACK);
       const Mat3 eta = stress - (stress.trace() / 3.0) * I - beta;
       const double norm = eta.norm();
       const double q = std::sqrt(1.5) * norm;
@@ -255,7 +239,7 @@ namespace detail {
         e -= dep;
         stress -= 2.0 * m.mu * dep;
         const Mat3 beta1 = beta + (2.0 / 3.0) * fl.Hkin * dep;
-        sym_to6(beta1, h1 + Hist::BACK);
+        store_sym(beta1, h1 + Hist::BACK);
         h1[Hist::EQPS] = a_n + d;
         h1[Hist::YIELDING] = 1.0;
         // plastic work: flow-stress integral plus the change of the
@@ -292,12 +276,12 @@ inline ReturnStatus point_core(Law law, const Lame &m, const FlowLaw &fl, const 
 
   if (law == Law::SMALL) {
     const Mat3 eps = 0.5 * (F + F.transpose()) - I;
-    const Mat3 ep_n = sym_from6(hn + Hist::PLASTIC);
+    const Mat3 ep_n = load_sym(hn + Hist::PLASTIC);
     Mat3 e = eps - ep_n - eth * I;
     Mat3 sigma, dep;
     if (!return_map(m, fl, th, env, hn, h1, e, sigma, dep, W, W_trial))
       return ReturnStatus::NO_CONVERGENCE;
-    sym_to6(ep_n + dep, h1 + Hist::PLASTIC);
+    store_sym(ep_n + dep, h1 + Hist::PLASTIC);
     P = sigma;
     return ReturnStatus::OK;
   }
@@ -305,7 +289,7 @@ inline ReturnStatus point_core(Law law, const Lame &m, const FlowLaw &fl, const 
   // HENCKY: trial b_e = F C_p^-1 F^T in its principal frame
   const double J = F.determinant();
   if (!(J > 0.0) || !F.allFinite()) return ReturnStatus::BAD_DEFORMATION;
-  const Mat3 Cpinv = I + sym_from6(hn + Hist::PLASTIC);
+  const Mat3 Cpinv = I + load_sym(hn + Hist::PLASTIC);
   const Mat3 be = F * Cpinv * F.transpose();
   Eigen::SelfAdjointEigenSolver<Mat3> eig(0.5 * (be + be.transpose()));
   if (eig.info() != Eigen::Success) return ReturnStatus::BAD_DEFORMATION;
@@ -329,7 +313,7 @@ inline ReturnStatus point_core(Law law, const Lame &m, const FlowLaw &fl, const 
   P = tau_g * Finv.transpose();
   if (fl.active && h1[Hist::YIELDING] > 0.0) {
     const Mat3 be1_g = Nv * be1 * Nv.transpose();
-    sym_to6(Finv * be1_g * Finv.transpose() - I, h1 + Hist::PLASTIC);
+    store_sym(Finv * be1_g * Finv.transpose() - I, h1 + Hist::PLASTIC);
   }
   return P.allFinite() ? ReturnStatus::OK : ReturnStatus::BAD_DEFORMATION;
 }

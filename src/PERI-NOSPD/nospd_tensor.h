@@ -28,6 +28,24 @@ inline void store(const Mat3 &m, double *p)
     for (int c = 0; c < 3; ++c) p[3 * r + c] = m(r, c);
 }
 
+// Symmetric tensors as 6 doubles: xx yy zz xy xz yz (LAMMPS's order).
+inline Mat3 load_sym(const double *v)
+{
+  Mat3 m;
+  m << v[0], v[3], v[4], v[3], v[1], v[5], v[4], v[5], v[2];
+  return m;
+}
+
+inline void store_sym(const Mat3 &m, double *v)
+{
+  v[0] = m(0, 0);
+  v[1] = m(1, 1);
+  v[2] = m(2, 2);
+  v[3] = 0.5 * (m(0, 1) + m(1, 0));
+  v[4] = 0.5 * (m(0, 2) + m(2, 0));
+  v[5] = 0.5 * (m(1, 2) + m(2, 1));
+}
+
 /* Conditioning of a shape tensor: det(K) / (tr(K)/dim)^dim, which is 1 for
    an isotropic family and 0 for a family whose bonds are (nearly) coplanar
    (3D) or collinear (2D).  In 2D the out-of-plane entry K(2,2) is 1 and is

@@ -792,9 +792,7 @@ void PairPeriNospd::inelastic_failure(int i, NOSPD::ReturnStatus st, const Mat3 
 
 NOSPD::Mat3 PairPeriNospd::nonaffine_moment(int i, const Mat3 &H, const Mat3 &Ki) const
 {
-  const double *m = moments[i];
-  Mat3 M;
-  M << m[0], m[3], m[4], m[3], m[1], m[5], m[4], m[5], m[2];
+  const Mat3 M = NOSPD::load_sym(moments[i]);
   Mat3 K = Ki.inverse();
   if (domain->dimension == 2) K(2, 2) = 0.0;
   return M - H * K * H.transpose();
