@@ -97,8 +97,12 @@ private_apt() {
       echo "deb-src [signed-by=$kr] $uri $suite main"
     done
   } > "$d/sources.list"
+  # Check-Valid-Until off: a mirror that serves a frozen snapshot (as this
+  # project's machines do) has Release files of the moving suites (sid,
+  # forky) past their validity date; their signatures are still checked.
   APT_OPTS=(-o "Dir::Etc::SourceList=$d/sources.list" -o "Dir::Etc::SourceParts=$d/parts"
-            -o "Dir::State::Lists=$d/lists" -o "Dir::Cache=$d/cache")
+            -o "Dir::State::Lists=$d/lists" -o "Dir::Cache=$d/cache"
+            -o "Acquire::Check-Valid-Until=false")
   mkdir -p "$d/cache/archives/partial"
   apt-get "${APT_OPTS[@]}" update -qq 2>/dev/null || \
     die "could not read Debian's source index from $uri (no network access to the registry?)"

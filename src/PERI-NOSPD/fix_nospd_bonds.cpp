@@ -12,6 +12,8 @@
 #include "memory.h"
 #include "neigh_list.h"
 #include "neighbor.h"
+#include "output.h"
+#include "thermo.h"
 #include "update.h"
 
 #include "nospd_plasticity.h"
@@ -34,14 +36,14 @@ FixNospdBonds::FixNospdBonds(LAMMPS *lmp, int narg, char **arg) :
     FixPeriNeigh(lmp, narg, arg), nbond_atoms(0), bond_version(0), bond_first(nullptr), bond_j(nullptr),
     bond_slot(nullptr), bond_w(nullptr), x0s(nullptr), kinv(nullptr), xi_moment(nullptr), u_moment(nullptr), family_size(nullptr), singular(nullptr),
     defgrad(nullptr), pk1(nullptr), energy_density(nullptr), nsingular(0), nbonds_total(0),
-    nbonds_broken(0), nmax_bonds(0), nmax_first(0), nmax_x0s(0), stale(nullptr),
-    all_stale(true), trial_ready(0), x0s_store(nullptr), ref_box_set(0)
+    nbonds_broken(0), nbonds_vanished(0), nmax_bonds(0), nmax_first(0), nmax_x0s(0), stale(nullptr),
+    all_stale(true), trial_ready(0), x0s_store(nullptr), ref_box_set(0), own_tag(nullptr)
 {
   nhistory = 0;
   history = history_trial = nullptr;
   if (narg != 3) error->all(FLERR, "Illegal fix {} command: takes no arguments", style);
   vector_flag = 1;
-  size_vector = 4;
+  size_vector = 5;
   create_attribute = 1;
   global_freq = 1;
   extvector = 0;
@@ -57,6 +59,7 @@ FixNospdBonds::FixNospdBonds(LAMMPS *lmp, int narg, char **arg) :
     for (int k = 0; k < 9; k++) kinv[i][k] = defgrad[i][k] = pk1[i][k] = 0.0;
     for (int k = 0; k < 3; k++) xi_moment[i][k] = u_moment[i][k] = 0.0;
     energy_density[i] = 0.0;
+    own_tag[i] = atom->tag[i];
   }
 }
 
@@ -78,6 +81,7 @@ FixNospdBonds::~FixNospdBonds()
   memory->destroy(defgrad);
   memory->destroy(pk1);
   memory->destroy(energy_density);
+  memory->destroy(own_tag);
   memory->destroy(history);
   memory->destroy(history_trial);
 }
@@ -86,7 +90,7 @@ FixNospdBonds::~FixNospdBonds()
 
 int FixNospdBonds::setmask()
 {
-  return POST_NEIGHBOR | MIN_POST_NEIGHBOR | END_OF_STEP | POST_RUN;
+  return POST_INTEGRATE | POST_NEIGHBOR | MIN_POST_NEIGHBOR | END_OF_STEP | POST_RUN;
 }
 
 /* ---------------------------------------------------------------------- */
@@ -116,14 +120,17 @@ void FixNospdBonds::setup_post_neighbor()
   if (first) {
     build_families();
     first = 0;
+  } else {
+    follow_renumbered_tags();
   }
   // also after a restart, where build_families() does not run
-  maxexchange = maxpartner + 21 + nhistory;
+  maxexchange = maxpartner + 22 + nhistory;
   build_bond_arrays();
   all_stale = true;    // after a restart or a change of settings
   update_shape_tensors();
   count_bonds();
   if (built_now) report_families();
+  if (update->whichflag == 1) report_stable_timestep();
 }
 
 /* ---------------------------------------------------------------------- */
@@ -148,6 +155,7 @@ void FixNospdBonds::post_neighbor()
   update_x0s();
   build_bond_arrays();
   update_shape_tensors();
+  if (count_bonds_pending) count_bonds();
 }
 
 /* ----------------------------------------------------------------------
@@ -195,18 +203,22 @@ void FixNospdBonds::update_x0s()
   x0s = x0s_store;
 }
 
+static constexpr int RESTART_V2 = 10;
+static constexpr double BIG = 1.0e300;
+
 /* ----------------------------------------------------------------------
    global restart data: FixPeriNeigh's two values and the reference box
 ------------------------------------------------------------------------- */
 
 void FixNospdBonds::write_restart(FILE *fp)
 {
-  double list[6] = {(double) first, (double) maxpartner, (double) ref_box_set,
-                    ref_prd[0], ref_prd[1], ref_prd[2]};
+  // list[0] is `first` plus RESTART_V2 (older files hold six values)
+  double list[7] = {(double) (first + RESTART_V2), (double) maxpartner, (double) ref_box_set,
+                    ref_prd[0], ref_prd[1], ref_prd[2], (double) nbonds_vanished};
   if (comm->me == 0) {
-    int size = 6 * sizeof(double);
+    int size = 7 * sizeof(double);
     fwrite(&size, sizeof(int), 1, fp);
-    fwrite(list, sizeof(double), 6, fp);
+    fwrite(list, sizeof(double), 7, fp);
   }
 }
 
@@ -215,7 +227,9 @@ void FixNospdBonds::write_restart(FILE *fp)
 void FixNospdBonds::restart(char *buf)
 {
   auto *list = (double *) buf;
-  first = static_cast<int>(list[0]);
+  const int head = static_cast<int>(list[0]);
+  first = head % RESTART_V2;
+  if (head >= RESTART_V2) nbonds_vanished = static_cast<bigint>(list[6]);
   maxpartner = static_cast<int>(list[1]);
   ref_box_set = static_cast<int>(list[2]);
   for (int k = 0; k < 3; k++) ref_prd[k] = list[3 + k];
@@ -268,7 +282,9 @@ void FixNospdBonds::build_families()
       const double dz = x0s[j][2] - x0s[i][2];
       const double rsq = dx * dx + dy * dy + dz * dz;
       const double delta = horizon[type[i]][type[j]];
-      if (rsq <= delta * delta && rsq > 0.0) fam[i].push_back({tag[j], vfrac[j]});
+      if (rsq > delta * delta) continue;
+      check_coincident(i, j, sqrt(rsq));
+      fam[i].push_back({tag[j], vfrac[j]});
     }
   }
 
@@ -297,6 +313,7 @@ void FixNospdBonds::build_families()
 
   for (int i = 0; i < nlocal; i++) {
     npartner[i] = family_size[i] = (int) fam[i].size();
+    own_tag[i] = tag[i];
     vinter[i] = 0.0;
     wvolume[i] = 0.0;
     for (int n = 0; n < npartner[i]; n++) {
@@ -304,7 +321,25 @@ void FixNospdBonds::build_families()
       vinter[i] += fam[i][n].vol;    // read by compute damage/atom
     }
   }
-  maxexchange = maxpartner + 21 + nhistory;
+  maxexchange = maxpartner + 22 + nhistory;
+}
+
+/* ----------------------------------------------------------------------
+   Two points closer than a small fraction of their spacing would make a
+   bond of (nearly) zero length: K loses nothing, but the bond's stretch
+   and the force state are divided by it.  Name both atoms.
+------------------------------------------------------------------------- */
+
+void FixNospdBonds::check_coincident(int i, int j, double r) const
+{
+  const double v = std::min(atom->vfrac[i], atom->vfrac[j]);
+  const double spacing = (model.dim == 3) ? cbrt(v) : sqrt(v / model.thickness);
+  if (r < model.coincident_fraction * spacing)
+    error->one(FLERR, "Fix {}: atoms {} and {} are {:.6g} apart in the reference "
+               "configuration, less than {} of their spacing {:.6g} (from the volume): "
+               "overlapping points, e.g. two create_atoms on the same region; remove one with "
+               "delete_atoms overlap", style, atom->tag[i], atom->tag[j], r,
+               model.coincident_fraction, spacing);
 }
 
 /* ----------------------------------------------------------------------
@@ -338,8 +373,7 @@ void FixNospdBonds::build_bond_arrays()
     memory->create(bond_w, nmax_bonds, "nospd/bonds:bond_w");
   }
 
-  int nmissing = 0;
-  tagint missing_tag = 0, missing_of = 0;
+  std::vector<MissingPartner> missing;
   int b = 0;
   for (int i = 0; i < nlocal; i++) {
     bond_first[i] = b;
@@ -348,10 +382,7 @@ void FixNospdBonds::build_bond_arrays()
       if (t == 0) continue;    // broken
       int j = atom->map(t);
       if (j < 0) {
-        if (!nmissing++) {
-          missing_tag = t;
-          missing_of = atom->tag[i];
-        }
+        missing.push_back({i, n, t});
         continue;
       }
       if (periodic) j = domain->closest_image(i, j);
@@ -369,22 +400,298 @@ void FixNospdBonds::build_bond_arrays()
   nbond_atoms = nlocal;
   bond_version++;
 
-  int anymissing = 0;
+  int nmissing = missing.size(), anymissing = 0;
   MPI_Allreduce(&nmissing, &anymissing, 1, MPI_INT, MPI_SUM, world);
-  if (anymissing) {
+  if (anymissing) resolve_missing(missing);
+}
+
+/* ----------------------------------------------------------------------
+   Stable time step of velocity Verlet for the bond-based body with the
+   same P-wave modulus (Silling and Askari 2005, Comput. Struct. 83:1526,
+   eq. 31): dt_i = sqrt(2 rho_i / sum_j V_j c / |xi_ij|), the smallest over
+   the points of each type.  Logged when it changes; a warning when the
+   time step exceeds it.
+------------------------------------------------------------------------- */
+
+void FixNospdBonds::report_stable_timestep()
+{
+  const double *c = model.wave_micromodulus;
+  if (!c) return;
+  const int ntypes = atom->ntypes, nlocal = atom->nlocal;
+  const int *type = atom->type;
+  const double *vfrac = atom->vfrac, *rho = atom->rmass;
+  std::vector<double> dtmin(ntypes + 1, BIG), dtall(ntypes + 1);
+  for (int i = 0; i < nlocal; i++) {
+    const int it = type[i];
+    if (!(c[it] > 0.0)) continue;
+    double s = 0.0;
+    for (int b = bond_first[i]; b < bond_first[i + 1]; b++) {
+      const int j = bond_j[b];
+      const double dx = x0s[j][0] - x0s[i][0], dy = x0s[j][1] - x0s[i][1],
+                   dz = x0s[j][2] - x0s[i][2];
+      s += vfrac[j] * std::max(c[it], c[type[j]]) / sqrt(dx * dx + dy * dy + dz * dz);
+    }
+    if (s > 0.0) dtmin[it] = std::min(dtmin[it], sqrt(2.0 * rho[i] / s));
+  }
+  MPI_Allreduce(dtmin.data(), dtall.data(), ntypes + 1, MPI_DOUBLE, MPI_MIN, world);
+  const bool changed = (dt_reported != dtall);
+  if (!changed && update->dt == dt_checked) return;
+  dt_reported = dtall;
+  dt_checked = update->dt;
+  if (comm->me != 0) return;
+  std::string line = "PERI-NOSPD stable time step estimate (Silling-Askari, P-wave modulus):";
+  int worst = 0;
+  for (int t = 1; t <= ntypes; t++) {
+    if (dtall[t] >= BIG) continue;
+    line += fmt::format(" type {} {:.4g}", t, dtall[t]);
+    if (!worst || dtall[t] < dtall[worst]) worst = t;
+  }
+  if (!worst) return;
+  if (changed) utils::logmesg(lmp, line + "\n");
+  if (update->dt > dtall[worst])
+    error->warning(FLERR, "Fix {}: timestep {:.4g} exceeds the stable estimate {:.4g} of atom "
+                   "type {}: the run may blow up; use timestep {:.3g} or less",
+                   style, update->dt, dtall[worst], worst, 0.8 * dtall[worst]);
+}
+
+/* ----------------------------------------------------------------------
+   Instability caught where it starts, before LAMMPS meets its results
+   (non-numeric coordinates, lost atoms, too many neighbor bins): after the
+   drift, every owned point must have a finite position and velocity, and a
+   point that still has bonds must not have moved half its horizon in one
+   step.  Velocity Verlet's drift is v dt, so the check costs one pass over
+   the atoms and none over the bonds.
+------------------------------------------------------------------------- */
+
+void FixNospdBonds::post_integrate()
+{
+  const int nlocal = atom->nlocal;
+  if (nbond_atoms != nlocal) return;    // the bond arrays are being rebuilt
+  double **x = atom->x, **v = atom->v;
+  const int *type = atom->type;
+  const double dt = update->dt;
+  int bad = -1;
+  bool nonfinite = false;
+  double moved = 0.0;
+  for (int i = 0; i < nlocal; i++) {
+    if (model.active && !model.active[type[i]]) continue;
+    const double v2 = v[i][0] * v[i][0] + v[i][1] * v[i][1] + v[i][2] * v[i][2];
+    if (!std::isfinite(v2) || !std::isfinite(x[i][0] + x[i][1] + x[i][2])) {
+      bad = i;
+      nonfinite = true;
+      break;
+    }
+    if (bond_first[i + 1] == bond_first[i]) continue;    // a free fragment may fly
+    const double half = 0.5 * model.horizon[type[i]][type[i]];
+    if (v2 * dt * dt > half * half) {
+      bad = i;
+      moved = sqrt(v2) * dt;
+      break;
+    }
+  }
+  int anybad = (bad >= 0), all = 0;
+  MPI_Allreduce(&anybad, &all, 1, MPI_INT, MPI_MAX, world);
+  if (!all) return;
+  const std::string cause = unstable_cause();
+  if (bad >= 0) {
+    if (nonfinite)
+      error->one(FLERR, "Fix {}: step {}: atom {} has a non-finite position or velocity: the "
+                 "run became unstable{}", style, update->ntimestep, atom->tag[bad], cause);
+    error->one(FLERR, "Fix {}: step {}: atom {}, still bonded, moved {:.4g} in one step, more "
+               "than half its horizon {:.4g}: the run became unstable{}", style,
+               update->ntimestep, atom->tag[bad], moved, model.horizon[type[bad]][type[bad]], cause);
+  }
+  error->all(FLERR, "Fix {}: step {}: the run became unstable on another rank", style,
+             update->ntimestep);
+}
+
+/* the likely cause, for the instability errors of the fix and the pair style */
+
+std::string FixNospdBonds::unstable_cause() const
+{
+  double est = 0.0;
+  for (size_t t = 1; t < dt_reported.size(); t++)
+    if (dt_reported[t] < BIG && (est == 0.0 || dt_reported[t] < est)) est = dt_reported[t];
+  if (est > 0.0 && update->dt > est)
+    return fmt::format(": timestep {:.4g} exceeds the stable estimate {:.4g} (see the log); "
+                       "reduce it", update->dt, est);
+  if (est > 0.0)
+    return fmt::format(" although timestep {:.4g} is below the stable estimate {:.4g}: look "
+                       "for a stiff contact, an overlapping body or a large applied velocity",
+                       update->dt, est);
+  return "";
+}
+
+/* ----------------------------------------------------------------------
+   Atom IDs renumbered since the families were stored (delete_atoms with
+   its default `compress yes`, reset_atoms id): partner lists hold the old
+   IDs.  Every atom's (old, new) pair goes round the ranks once; each rank
+   translates the partners it holds.  A partner whose old ID no atom
+   carries any more was deleted: its bond is broken (resolve_missing would
+   not see it, since its old ID may now belong to another atom).
+------------------------------------------------------------------------- */
+
+namespace {
+struct Renumbering {
+  std::vector<std::pair<tagint, std::pair<int, int>>> slots;    // old partner ID, (i, slot)
+  std::vector<tagint> newtag;                                   // per entry of slots, 0: not found
+};
+
+void translate_ids(int n, char *buf, void *ptr)
+{
+  auto *r = static_cast<Renumbering *>(ptr);
+  const auto *pairs = reinterpret_cast<const tagint *>(buf);    // old, new; sorted by old
+  size_t k = 0;
+  for (int p = 0; p < n && k < r->slots.size(); p++) {
+    const tagint old = pairs[2 * p];
+    while (k < r->slots.size() && r->slots[k].first < old) k++;
+    for (; k < r->slots.size() && r->slots[k].first == old; k++) r->newtag[k] = pairs[2 * p + 1];
+  }
+}
+}    // namespace
+
+void FixNospdBonds::follow_renumbered_tags()
+{
+  const int nlocal = atom->nlocal;
+  const tagint *tag = atom->tag;
+  int changed = 0;
+  for (int i = 0; i < nlocal; i++) {
+    if (own_tag[i] == 0) own_tag[i] = tag[i];    // created after the families
+    if (own_tag[i] != tag[i]) changed = 1;
+  }
+  int anychanged = 0;
+  MPI_Allreduce(&changed, &anychanged, 1, MPI_INT, MPI_MAX, world);
+  if (!anychanged) return;
+
+  Renumbering r;
+  for (int i = 0; i < nlocal; i++)
+    for (int n = 0; n < npartner[i]; n++)
+      if (partner[i][n]) r.slots.push_back({partner[i][n], {i, n}});
+  std::sort(r.slots.begin(), r.slots.end());
+  r.newtag.assign(r.slots.size(), 0);
+  std::vector<std::pair<tagint, tagint>> ids(nlocal);
+  for (int i = 0; i < nlocal; i++) ids[i] = {own_tag[i], tag[i]};
+  std::sort(ids.begin(), ids.end());
+  static_assert(sizeof(std::pair<tagint, tagint>) == 2 * sizeof(tagint), "packed ID pairs");
+  comm->ring(nlocal, 2 * sizeof(tagint), ids.data(), 0, translate_ids, nullptr, &r);
+
+  int ngone = 0;
+  for (size_t k = 0; k < r.slots.size(); k++) {
+    const int i = r.slots[k].second.first, n = r.slots[k].second.second;
+    partner[i][n] = r.newtag[k];    // 0 (broken) if the partner is gone
+    if (!r.newtag[k]) {
+      stale[i] = 1;
+      ngone++;
+    }
+  }
+  for (int i = 0; i < nlocal; i++) own_tag[i] = tag[i];
+  bigint one = ngone, all = 0;
+  MPI_Allreduce(&one, &all, 1, MPI_LMP_BIGINT, MPI_SUM, world);
+  nbonds_vanished += all;
+  if (comm->me == 0) {
+    error->warning(FLERR, "Fix {}: atom IDs were renumbered since the bond families were built "
+                   "(delete_atoms compress, reset_atoms id): the families follow the new IDs",
+                   style);
+    if (all)
+      error->warning(FLERR, "Fix {}: {} bonds broken: their partner atoms no longer exist "
+                     "(delete_atoms, or atoms lost under thermo_modify lost ignore)", style, all);
+  }
+}
+
+/* ----------------------------------------------------------------------
+   Partners found neither as owned atoms nor as ghosts.  Either they no
+   longer exist (delete_atoms, atoms lost through a non-periodic boundary
+   under thermo_modify lost ignore): their bonds are broken, alike on every
+   rank count, and the families' K recomputed; or they exist on a rank
+   beyond the ghost cutoff: an error with the distance.  All ranks take
+   part, since which is which takes a global look-up of the tags.
+------------------------------------------------------------------------- */
+
+void FixNospdBonds::resolve_missing(const std::vector<MissingPartner> &missing)
+{
+  // the missing tags of all ranks, with the owner's position where one exists
+  std::vector<tagint> mine;
+  for (const auto &m : missing) mine.push_back(m.tag);
+  std::sort(mine.begin(), mine.end());
+  mine.erase(std::unique(mine.begin(), mine.end()), mine.end());
+  int nmine = mine.size();
+  std::vector<int> counts(comm->nprocs), displs(comm->nprocs, 0);
+  MPI_Allgather(&nmine, 1, MPI_INT, counts.data(), 1, MPI_INT, world);
+  for (int p = 1; p < comm->nprocs; p++) displs[p] = displs[p - 1] + counts[p - 1];
+  const int nall = displs.back() + counts.back();
+  std::vector<tagint> tags(nall);
+  MPI_Allgatherv(mine.data(), nmine, MPI_LMP_TAGINT, tags.data(), counts.data(), displs.data(),
+                 MPI_LMP_TAGINT, world);
+  std::vector<double> found(4 * nall, 0.0), found_all(4 * nall);
+  for (int k = 0; k < nall; k++) {
+    const int j = atom->map(tags[k]);
+    if (j < 0 || j >= atom->nlocal) continue;
+    found[4 * k] = 1.0;
+    for (int d = 0; d < 3; d++) found[4 * k + 1 + d] = atom->x[j][d];
+  }
+  MPI_Allreduce(found.data(), found_all.data(), 4 * nall, MPI_DOUBLE, MPI_SUM, world);
+  // tags is the concatenation of sorted per-rank lists: look up within this rank's part
+  const auto first_mine = tags.begin() + displs[comm->me];
+  const auto last_mine = first_mine + nmine;
+
+  int nvanished = 0, nfar = 0;
+  const MissingPartner *far = nullptr;
+  double far_pos[3] = {0.0, 0.0, 0.0};
+  for (const auto &m : missing) {
+    const int k = std::lower_bound(first_mine, last_mine, m.tag) - tags.begin();
+    if (found_all[4 * k] == 0.0) {
+      partner[m.i][m.slot] = 0;    // the partner is gone: so is the bond
+      stale[m.i] = 1;
+      nvanished++;
+    } else if (!nfar++) {
+      far = &m;
+      for (int d = 0; d < 3; d++) far_pos[d] = found_all[4 * k + 1 + d];
+    }
+  }
+
+  int anyfar = 0;
+  MPI_Allreduce(&nfar, &anyfar, 1, MPI_INT, MPI_SUM, world);
+  if (anyfar) {
     // a line-search minimizer moves atoms by up to min_modify dmax (0.1
     // distance units by default: 10 cm in SI) in its first trial step
     const std::string hint = (update->whichflag == 2)
         ? "; under minimize, set min_modify dmax to a fraction of the point spacing"
         : "";
-    if (nmissing)
+    if (nfar) {
+      double d[3];
+      for (int k = 0; k < 3; k++) d[k] = far_pos[k] - atom->x[far->i][k];
+      domain->minimum_image(FLERR, d);
       error->one(FLERR,
-                 "Fix {}: bond partner {} of atom {} is not on this rank nor a ghost ({} "
-                 "such bonds): a bond stretched beyond the ghost cutoff; increase it with "
-                 "comm_modify cutoff or break such bonds with a damage fix{}",
-                 style, missing_tag, missing_of, nmissing, hint);
-    error->all(FLERR, "Fix {}: bond partners lost on another rank", style);
+                 "Fix {}: bond partner {} of atom {} is {:.6g} away, beyond the ghost cutoff "
+                 "{:.6g} ({} such bonds on this rank): a bond stretched beyond it; increase "
+                 "it with comm_modify cutoff or break such bonds with a damage fix{}",
+                 style, far->tag, atom->tag[far->i], sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]),
+                 comm->get_comm_cutoff(), nfar, hint);
+    }
+    error->all(FLERR, "Fix {}: bond partners beyond the ghost cutoff on another rank", style);
   }
+
+  // atoms lost (LAMMPS still counts them) rather than deleted: unless the
+  // user lets atoms go (thermo_modify lost ignore|warn), LAMMPS stops at the
+  // next thermo output; stop now and say why
+  bigint nlocal = atom->nlocal, natoms_now = 0;
+  MPI_Allreduce(&nlocal, &natoms_now, 1, MPI_LMP_BIGINT, MPI_SUM, world);
+  if (natoms_now < atom->natoms && output->thermo && output->thermo->lostflag == Thermo::ERROR) {
+    const std::string hint = (update->whichflag == 2)
+        ? ": under minimize the line search moved them up to min_modify dmax; set it to a "
+          "fraction of the point spacing"
+        : ": a blown-up run or a body leaving a non-periodic box; to let atoms go, use "
+          "thermo_modify lost ignore";
+    error->all(FLERR, "Fix {}: {} atoms were lost, and bond partners with them{}", style,
+               atom->natoms - natoms_now, hint);
+  }
+  bigint one = nvanished, all = 0;
+  MPI_Allreduce(&one, &all, 1, MPI_LMP_BIGINT, MPI_SUM, world);
+  nbonds_vanished += all;
+  if (comm->me == 0)
+    error->warning(FLERR, "Fix {}: {} bonds broken: their partner atoms no longer exist "
+                   "(delete_atoms, or atoms lost under thermo_modify lost ignore)", style, all);
+  count_bonds_pending = true;
 }
 
 /* ----------------------------------------------------------------------
@@ -457,6 +764,7 @@ void FixNospdBonds::count_bonds()
   MPI_Allreduce(loc, all, 2, MPI_LMP_BIGINT, MPI_SUM, world);
   nbonds_total = all[0];
   nbonds_broken = all[1];
+  count_bonds_pending = false;
 }
 
 /* ----------------------------------------------------------------------
@@ -586,7 +894,8 @@ double FixNospdBonds::compute_vector(int n)
   if (n == 0) return (double) nbonds_total;
   if (n == 1) return (double) nbonds_broken;
   if (n == 2) return (double) nsingular;
-  return nhistory ? history_sum(NOSPD_HIST_WORK) : 0.0;
+  if (n == 3) return nhistory ? history_sum(NOSPD_HIST_WORK) : 0.0;
+  return (double) nbonds_vanished;
 }
 
 /* ----------------------------------------------------------------------
@@ -686,6 +995,7 @@ void FixNospdBonds::grow_arrays(int nmax)
   memory->grow(defgrad, nmax, 9, "nospd/bonds:defgrad");
   memory->grow(pk1, nmax, 9, "nospd/bonds:pk1");
   memory->grow(energy_density, nmax, "nospd/bonds:energy_density");
+  memory->grow(own_tag, nmax, "nospd/bonds:own_tag");
   if (nhistory) {
     memory->grow(history, nmax, nhistory, "nospd/bonds:history");
     memory->grow(history_trial, nmax, nhistory, "nospd/bonds:history_trial");
@@ -698,6 +1008,7 @@ void FixNospdBonds::grow_arrays(int nmax)
 
 void FixNospdBonds::set_arrays(int i)
 {
+  own_tag[i] = 0;    // IDs of new atoms are set after this call: adopted at setup
   for (int k = 0; k < nhistory; k++) history[i][k] = history_trial[i][k] = 0.0;
 }
 
@@ -722,6 +1033,7 @@ void FixNospdBonds::copy_arrays(int i, int j, int /*delflag*/)
   singular[j] = singular[i];
   stale[j] = stale[i];
   energy_density[j] = energy_density[i];
+  own_tag[j] = own_tag[i];
   for (int k = 0; k < nhistory; k++) {
     history[j][k] = history[i][k];
     history_trial[j][k] = history_trial[i][k];
@@ -746,6 +1058,7 @@ int FixNospdBonds::pack_exchange(int i, double *buf)
   buf[m++] = stale[i];
   for (int k = 0; k < 9; k++) buf[m++] = kinv[i][k];
   for (int k = 0; k < 3; k++) buf[m++] = xi_moment[i][k];
+  buf[m++] = ubuf(own_tag[i]).d;
   for (int k = 0; k < nhistory; k++) buf[m++] = history[i][k];
   return m;
 }
@@ -764,6 +1077,7 @@ int FixNospdBonds::unpack_exchange(int nlocal, double *buf)
   stale[nlocal] = static_cast<int>(buf[m++]);
   for (int k = 0; k < 9; k++) kinv[nlocal][k] = buf[m++];
   for (int k = 0; k < 3; k++) xi_moment[nlocal][k] = buf[m++];
+  own_tag[nlocal] = (tagint) ubuf(buf[m++]).i;
   for (int k = 0; k < nhistory; k++) history[nlocal][k] = history_trial[nlocal][k] = buf[m++];
   return m;
 }
@@ -783,6 +1097,7 @@ int FixNospdBonds::pack_restart(int i, double *buf)
   buf[m++] = family_size[i];
   buf[m++] = nhistory;
   for (int k = 0; k < nhistory; k++) buf[m++] = history[i][k];
+  buf[m++] = ubuf(own_tag[i]).d;
   buf[0] = m;    // first value: size of this fix's record, as Atom expects
   return m;
 }
@@ -794,6 +1109,7 @@ void FixNospdBonds::unpack_restart(int nlocal, int nth)
   double **extra = atom->extra;
   int m = 0;
   for (int i = 0; i < nth; i++) m += static_cast<int>(extra[nlocal][m]);
+  const int end = m + static_cast<int>(extra[nlocal][m]);
   m++;
   npartner[nlocal] = static_cast<int>(extra[nlocal][m++]);
   for (int n = 0; n < npartner[nlocal]; n++)
@@ -807,13 +1123,15 @@ void FixNospdBonds::unpack_restart(int nlocal, int nth)
   set_history_size(nh);
   for (int k = 0; k < nhistory; k++)
     history[nlocal][k] = history_trial[nlocal][k] = (k < nh) ? extra[nlocal][m++] : 0.0;
+  // files written before IDs were tracked end here: the ID is the file's
+  own_tag[nlocal] = (m < end) ? (tagint) ubuf(extra[nlocal][m++]).i : 0;
 }
 
 /* ---------------------------------------------------------------------- */
 
 int FixNospdBonds::maxsize_restart()
 {
-  return maxpartner + 5 + nhistory;
+  return maxpartner + 6 + nhistory;
 }
 
 /* ---------------------------------------------------------------------- */
@@ -823,5 +1141,5 @@ int FixNospdBonds::size_restart(int nlocal)
   int n = 0;
   for (int k = 0; k < npartner[nlocal]; k++)
     if (partner[nlocal][k]) n++;
-  return n + 5 + nhistory;
+  return n + 6 + nhistory;
 }

@@ -13,6 +13,8 @@ FixStyle(PERI_NEIGH/NOSPD,FixNospdBonds);
 
 #include "fix_peri_neigh.h"
 
+#include <vector>
+
 namespace LAMMPS_NS {
 
 // How the owning pair style weighs bonds: horizon per type pair and the
@@ -24,6 +26,13 @@ struct NospdBondModel {
   int dim = 3;
   double singular_tol = 1.0e-4;    // det K / (tr K/dim)^dim below this: singular
   const int *active = nullptr;     // [ntypes+1]: 1 for the types the pair style owns
+  double thickness = 1.0;          // 2D: the volumes are area x thickness
+  // points closer than this fraction of their spacing (from the volume) are
+  // an error: overlapping create_atoms, a lattice written twice
+  double coincident_fraction = 0.01;
+  // [ntypes+1]: bond-based micromodulus with the material's P-wave modulus,
+  // for the stable time step estimate (0: not estimated)
+  const double *wave_micromodulus = nullptr;
 };
 
 /* Owner of the bond families and of the reference and deformation state.
@@ -44,6 +53,7 @@ class FixNospdBonds : public FixPeriNeigh {
   void init() override;
   void setup(int) override;
   void setup_post_neighbor() override;
+  void post_integrate() override;
   void post_neighbor() override;
   void min_post_neighbor() override { post_neighbor(); }
   void end_of_step() override { commit_history(); }
@@ -64,6 +74,14 @@ class FixNospdBonds : public FixPeriNeigh {
   int maxsize_restart() override;
 
   void set_model(const NospdBondModel &m) { model = m; }
+  // the likely cause of an instability, for error messages ("" if unknown)
+  std::string unstable_cause() const;
+  // the stable time step estimate of a type at the last run setup (0: none)
+  double stable_timestep(int type) const
+  {
+    return (type < (int) dt_reported.size() && dt_reported[type] < 1.0e300) ? dt_reported[type]
+                                                                            : 0.0;
+  }
   const NospdBondModel &get_model() const { return model; }
 
   // Pass 1: F = I + (sum_j w U (x) xi) K^-1 for every owned atom.  When
@@ -109,6 +127,7 @@ class FixNospdBonds : public FixPeriNeigh {
   double *energy_density; // stored-energy density W(F) (plus stabilization)
   bigint nsingular;       // global count of singular families
   bigint nbonds_total, nbonds_broken;
+  bigint nbonds_vanished;    // broken because the partner atom no longer exists
 
   using FixPeriNeigh::npartner;
   using FixPeriNeigh::partner;
@@ -126,8 +145,20 @@ class FixNospdBonds : public FixPeriNeigh {
   double ref_prd[3];     // periodic lengths of the reference configuration
 
   void build_families();
+  void check_coincident(int i, int j, double r) const;
   void update_x0s();
   void build_bond_arrays();
+  struct MissingPartner {
+    int i, slot;
+    tagint tag;
+  };
+  void resolve_missing(const std::vector<MissingPartner> &missing);
+  void follow_renumbered_tags();
+  void report_stable_timestep();
+  std::vector<double> dt_reported;    // per type, the estimate last logged
+  double dt_checked = -1.0;           // the time step last checked against it
+  tagint *own_tag;    // the atom's ID when its partners' IDs were last written
+  bool count_bonds_pending = false;
   void compact_bond_arrays();
   void update_shape_tensors();
   void count_bonds();

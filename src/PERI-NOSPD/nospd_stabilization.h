@@ -46,6 +46,19 @@ inline double micromodulus(int dim, Plane plane, double E, double nu, double del
   return 48.0 * E / (5.0 * PI * thickness * d3);
 }
 
+/* Micromodulus of the bond-based body with the same P-wave modulus M
+   (the stiffness of the fastest wave): PMB's c with its fixed Poisson ratio
+   (1/4 in 3D and plane strain, 1/3 in plane stress) and K or E chosen so
+   that its M equals ours.  3D 10 M/(pi delta^4), 2D 8 M/(pi t delta^3).
+   Used for the stable time step estimate. */
+inline double pwave_micromodulus(int dim, Plane plane, const Lame &m, double delta,
+                                 double thickness)
+{
+  if (dim == 3) return 10.0 * (m.lambda + 2.0 * m.mu) / (PI * delta * delta * delta * delta);
+  const double M = (plane == Plane::STRESS ? m.lambda_ps : m.lambda) + 2.0 * m.mu;
+  return 8.0 * M / (PI * thickness * delta * delta * delta);
+}
+
 /* Wan et al.'s stabilization tensor S = C : K^-1 for isotropic C:
    lambda tr(K^-1) I + 2 mu K^-1.  In 2D only the in-plane block counts
    (K^-1's out-of-plane entry is a placeholder) and plane stress uses the

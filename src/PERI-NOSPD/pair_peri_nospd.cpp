@@ -423,6 +423,33 @@ PairPeriNospd *PairPeriNospd::find(Force *force)
   return nullptr;
 }
 
+/* ----------------------------------------------------------------------
+   LAMMPS's PERI_NEIGH fix (made by peri/pmb, peri/lps, peri/ves, peri/eps)
+   finds its pair with force->pair_match("peri", 0), which returns nothing
+   when two sub-styles of pair hybrid contain "peri", and the fix then
+   dereferences it in its setup.  Stop here, before that, and name the alias.
+------------------------------------------------------------------------- */
+
+void PairPeriNospd::check_hybrid_names()
+{
+  if (!utils::strmatch(force->pair_style, "^hybrid")) return;
+  // one bonds fix holds one bond model (horizons, influence, the owned
+  // types): a second correspondence sub-style would silently replace it
+  if (!force->pair_match("nospd", 0))
+    error->all(FLERR, "pair_style {}: more than one PERI-NOSPD sub-style ({}); use one and give "
+               "each atom type its own pair_coeff line", force->pair_style,
+               force->pair_match_ptr(this));
+  const char *mine = force->pair_match_ptr(this);
+  if (!mine || !utils::strmatch(mine, "peri")) return;
+  const std::string rest = std::string(mine).substr(5);    // "nospd" or "nospd/hs"
+  for (const char *theirs : {"peri/pmb", "peri/lps", "peri/ves", "peri/eps"})
+    if (force->pair_match(theirs, 1))
+      error->all(FLERR, "pair_style {}: {} beside {}: LAMMPS's PERI styles find their pair by "
+                 "the name 'peri', which two sub-styles cannot share; use the alias {} "
+                 "(pair_style {} {} ... {} ...)",
+                 force->pair_style, mine, theirs, rest, force->pair_style, rest, theirs);
+}
+
 /* ---------------------------------------------------------------------- */
 
 void PairPeriNospd::read_material_file(const std::string &file, const std::string &name,
@@ -491,6 +518,7 @@ double PairPeriNospd::init_one(int i, int j)
 void PairPeriNospd::init_style()
 {
   const std::string cmd = std::string("pair_style ") + force->pair_style;
+  check_hybrid_names();
   if (!atom->peri_flag) error->all(FLERR, "{} requires atom_style peri", cmd);
   if (atom->map_style == Atom::MAP_NONE)
     error->all(FLERR, "{} requires an atom map: add 'atom_modify map array' before the box",
@@ -589,6 +617,12 @@ void PairPeriNospd::init_style()
   model.dim = dim;
   model.singular_tol = singular_tol;
   model.active = active.data();
+  model.thickness = thickness;
+  wave_c.assign(atom->ntypes + 1, 0.0);
+  for (int i = 1; i <= atom->ntypes; i++)
+    if (active[i])
+      wave_c[i] = NOSPD::pwave_micromodulus(dim, plane_mode, lame[i], cut[i][i], thickness);
+  model.wave_micromodulus = wave_c.data();
   fix_bonds->set_model(model);
   // no neighbor list: the families are fixed and live in the fix; the
   // ghost cutoff follows from the pair cutoff (horizon) plus the skin
@@ -704,9 +738,10 @@ void PairPeriNospd::constitutive_pass(int eflag)
                                              thermal[itype], env, F, hist[i], hist_trial[i], P, W);
       if (st != NOSPD::ReturnStatus::OK) inelastic_failure(i, st, F);
     } else if (!NOSPD::first_piola(strain_law, plane_mode, lame[itype], F, P, W))
-      error->one(FLERR, "pair_style {}: atom {} has det F = {:.6g}: the finite-strain law is "
-                 "undefined for an inverted or collapsed family", force->pair_style,
-                 atom->tag[i], F.determinant());
+      error->one(FLERR, "pair_style {}: atom {} on step {} has det F = {:.6g}: the "
+                 "finite-strain law is undefined for an inverted or collapsed family{}",
+                 force->pair_style, atom->tag[i], update->ntimestep, F.determinant(),
+                 fix_bonds->unstable_cause());
     NOSPD::store(F, defgrad[i]);
     NOSPD::store(P, pk1[i]);
     const Mat3 A = P * Ki;
@@ -776,8 +811,9 @@ void PairPeriNospd::inelastic_failure(int i, NOSPD::ReturnStatus st, const Mat3 
 {
   if (st == NOSPD::ReturnStatus::BAD_DEFORMATION)
     error->one(FLERR, "pair_style {}: atom {} on step {} has det F = {:.6g}: the finite-strain "
-               "law is undefined for an inverted or collapsed family (time step too large?)",
-               force->pair_style, atom->tag[i], update->ntimestep, F.determinant());
+               "law is undefined for an inverted or collapsed family{}",
+               force->pair_style, atom->tag[i], update->ntimestep, F.determinant(),
+               fix_bonds->unstable_cause());
   error->one(FLERR, "pair_style {}: the plastic return mapping did not converge at atom {} on "
              "step {} (equivalent plastic strain {:.6g}, temperature {:.6g}); the strain "
              "increment may be too large (time step) or the flow law ill-posed",

@@ -76,6 +76,7 @@ class PairPeriNospd : public Pair {
   double stab_param;     // Silling G or hourglass C
   int influence;         // NospdBondModel::Influence
   double thickness;      // 2D: thickness carried by the volumes
+  std::vector<double> wave_c;    // per type: micromodulus for the time step estimate
   double singular_tol;
 
   // per type
@@ -132,6 +133,7 @@ class PairPeriNospd : public Pair {
   void fill_base_temperature();
   void inelastic_failure(int i, NOSPD::ReturnStatus st, const NOSPD::Mat3 &F) const;
   void check_material(int itype) const;
+  void check_hybrid_names();
 };
 
 }    // namespace LAMMPS_NS

@@ -285,10 +285,11 @@ template <int DIM, int VIRIAL> void PairPeriNospdHS::force_pass(int eflag)
     for (int l = 0; l < lanes; l++) {
       if (!ok && out[l].bad != -2) {
         const tagint partner = out[l].bad >= 0 ? atom->tag[jbuf[l][out[l].bad]] : 0;
-        error->one(FLERR, "pair_style {}: atom {}: the finite-strain law is undefined (det F "
-                   "<= 0) for the {} of its bond to atom {}", force->pair_style,
-                   atom->tag[atoms[l]], out[l].bad >= 0 ? "bond-associated family" :
-                   "whole family", partner);
+        error->one(FLERR, "pair_style {}: atom {} on step {}: the finite-strain law is "
+                   "undefined (det F <= 0) for the {} of its bond to atom {}{}",
+                   force->pair_style, atom->tag[atoms[l]], update->ntimestep,
+                   out[l].bad >= 0 ? "bond-associated family" : "whole family", partner,
+                   fix_bonds->unstable_cause());
       }
       apply_family<VIRIAL>(atoms[l], p, l, out[l], eflag);
     }

@@ -1,0 +1,341 @@
+/* Robustness against hostile decks (issue 14):
+   - pair hybrid: our styles under their peri/* names beside LAMMPS's PERI
+     styles stop with the alias to use; the aliases work; two of our
+     sub-styles stop;
+   - atoms deleted after the families exist: the bonds to them break and the
+     partners' K follow, so the body answers as one built without them;
+   - coincident points stop at setup naming both atoms;
+   - the stable time step estimate is the published formula; an unstable
+     run stops naming the step, the atom and the cause. */
+
+#include "nospd_test_util.h"
+
+#include "domain.h"
+#include "fix_nospd_bonds.h"
+#include "gmock/gmock.h"
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <iterator>
+#include <limits>
+#include <map>
+
+using namespace nospdtest;
+using LAMMPS_NS::FixNospdBonds;
+using LAMMPS_NS::bigint;
+using ::testing::HasSubstr;
+
+namespace {
+
+FixNospdBonds *bonds(LAMMPS *lmp)
+{
+  return static_cast<FixNospdBonds *>(lmp->modify->get_fix_by_id("NOSPD_BONDS"));
+}
+
+// a 3D block of 8 x 6 x 6 points, types 1 (x < 4 dx) and 2, SI units
+void two_type_block(LAMMPS *lmp)
+{
+  cmd(lmp, "units si");
+  cmd(lmp, "atom_style peri");
+  cmd(lmp, "atom_modify map array");
+  cmd(lmp, "boundary s s s");
+  cmd(lmp, "lattice sc 0.001");
+  cmd(lmp, "region box block -0.25 7.75 -0.25 5.75 -0.25 5.75");
+  cmd(lmp, "create_box 2 box");
+  cmd(lmp, "create_atoms 1 box");
+  cmd(lmp, "region r2 block 3.5 8 -1 9 -1 9 units lattice");
+  cmd(lmp, "set region r2 type 2");
+  cmd(lmp, "set group all density 7850");
+  cmd(lmp, "set group all volume 1e-9");
+}
+
+class Robustness : public ::testing::Test {
+ protected:
+  LAMMPS *lmp = nullptr;
+  void SetUp() override { lmp = open_lammps(); }
+  void TearDown() override { delete lmp; }
+
+  // the two-type block under `pair_style hybrid...`: type 1 to `first`,
+  // type 2 to `second` (their pair_coeff tails); the error of run 0
+  std::string hybrid(const std::string &style, const std::string &first,
+                     const std::string &second)
+  {
+    two_type_block(lmp);
+    cmd(lmp, "pair_style " + style);
+    cmd(lmp, "pair_coeff 1 1 " + first);
+    cmd(lmp, "pair_coeff 2 2 " + second);
+    if (style.rfind("hybrid/overlay", 0) != 0) cmd(lmp, "pair_coeff 1 2 none");
+    return error_of(lmp, "run 0");
+  }
+
+  // the two-type block with one more point at `where` (lattice units); the
+  // error of run 0
+  std::string with_extra_point(const std::string &where)
+  {
+    two_type_block(lmp);
+    cmd(lmp, "create_atoms 1 single " + where);
+    cmd(lmp, "set group all density 7850");
+    cmd(lmp, "set group all volume 1e-9");
+    cmd(lmp, "pair_style peri/nospd");
+    cmd(lmp, "pair_coeff * * 200e9 0.3 0.003");
+    return error_of(lmp, "run 0");
+  }
+
+  // a 9^3 block shaken by random displacements, run under NVE at `factor`
+  // times the stable estimate: the error of the run
+  std::string shaken_block_run(double factor, int steps)
+  {
+    Block blk;
+    blk.n = 9;
+    make_block(lmp, blk);
+    cmd(lmp, "displace_atoms all random 1e-7 1e-7 1e-7 4928 units box");
+    cmd(lmp, "fix 1 all nve");
+    cmd(lmp, "run 0");
+    cmd(lmp, "timestep " + num(factor * bonds(lmp)->stable_timestep(1)));
+    return error_of(lmp, "run " + std::to_string(steps));
+  }
+};
+
+TEST_F(Robustness, HybridPeriNameBesidePeriLpsNamesTheAlias)
+{
+  const auto msg = hybrid("hybrid peri/nospd peri/lps", "peri/nospd 200e9 0.3 0.003",
+                          "peri/lps 1e11 7e10 0.003 0.001 0.25");
+  EXPECT_THAT(msg, HasSubstr("peri/nospd beside peri/lps"));
+  EXPECT_THAT(msg, HasSubstr("use the alias nospd"));
+}
+
+TEST_F(Robustness, HybridHsPeriNameBesidePeriPmbNamesTheAlias)
+{
+  EXPECT_THAT(hybrid("hybrid/overlay peri/nospd/hs peri/pmb", "peri/nospd/hs 200e9 0.3 0.003",
+                     "peri/pmb 1e22 0.003 0.001 0.25"),
+              HasSubstr("use the alias nospd/hs"));
+}
+
+// the alias beside peri/lps: each style builds its own families, ours only
+// for the type it owns
+TEST_F(Robustness, HybridAliasBesidePeriLpsRuns)
+{
+  ASSERT_EQ(hybrid("hybrid nospd peri/lps", "nospd 200e9 0.3 0.003",
+                   "peri/lps 1e11 7e10 0.003 0.001 0.25"),
+            "");
+  auto *fb = bonds(lmp);
+  ASSERT_NE(fb, nullptr);
+  EXPECT_GT(fb->nbonds_total, 0);
+  ASSERT_NE(lmp->modify->get_fix_by_id("PERI_NEIGH"), nullptr);
+  for (int i = 0; i < lmp->atom->nlocal; i++)
+    EXPECT_EQ(fb->bond_first[i + 1] > fb->bond_first[i], lmp->atom->type[i] == 1);
+}
+
+TEST_F(Robustness, TwoNospdSubstylesStop)
+{
+  EXPECT_THAT(hybrid("hybrid nospd peri/nospd/hs", "nospd 200e9 0.3 0.003",
+                     "peri/nospd/hs 200e9 0.3 0.003"),
+              HasSubstr("more than one PERI-NOSPD sub-style"));
+}
+
+TEST_F(Robustness, HybridWithMdStyleRuns)
+{
+  two_type_block(lmp);
+  cmd(lmp, "pair_style hybrid/overlay peri/nospd lj/cut 0.002");
+  cmd(lmp, "pair_coeff * * peri/nospd 200e9 0.3 0.003");
+  cmd(lmp, "pair_coeff * * lj/cut 1e-20 0.0005");
+  EXPECT_EQ(error_of(lmp, "run 2"), "");
+}
+
+/* ---------------------------------------------------------------------- */
+
+TEST_F(Robustness, CoincidentPointsStopNamingBoth)
+{
+  const auto msg = with_extra_point("2 2 2");    // on top of a lattice point
+  EXPECT_THAT(msg, HasSubstr("are 0 apart"));
+  EXPECT_THAT(msg, HasSubstr("289"));    // the new atom: 8 x 6 x 6 + 1
+  EXPECT_THAT(msg, HasSubstr("delete_atoms overlap"));
+}
+
+TEST_F(Robustness, NearlyCoincidentPointStops)
+{
+  EXPECT_THAT(with_extra_point("2.002 2 2"),    // 2 micrometres from a point
+              HasSubstr("are 2e-06 apart in the reference configuration, less than 0.01 of "
+                        "their spacing"));
+}
+
+TEST_F(Robustness, PerturbedPointsAreNotCoincident)
+{
+  two_type_block(lmp);
+  cmd(lmp, "displace_atoms all random 0.00008 0.00008 0.00008 8765 units box");
+  cmd(lmp, "pair_style peri/nospd");
+  cmd(lmp, "pair_coeff * * 200e9 0.3 0.003");
+  EXPECT_EQ(error_of(lmp, "run 0"), "");
+}
+
+/* ----------------------------------------------------------------------
+   delete_atoms after the families exist.  A body notched by delete_atoms
+   must answer any deformation exactly as the same body created notched:
+   the same bonds, the same K, the same forces.  With `compress yes` (the
+   default) LAMMPS renumbers the atoms, with `compress no` it does not.
+------------------------------------------------------------------------- */
+
+struct Snapshot {
+  bigint bonds, vanished;
+  std::map<std::array<long, 3>, std::array<double, 3>> force;    // by reference position
+};
+
+Snapshot notched(bool delete_after, const std::string &compress)
+{
+  LAMMPS *lmp = open_lammps();
+  cmd(lmp, "units si");
+  cmd(lmp, "atom_style peri");
+  cmd(lmp, "atom_modify map array");
+  cmd(lmp, "boundary s s s");
+  cmd(lmp, "lattice sc 0.001");
+  cmd(lmp, "region box block -0.25 9.75 -0.25 7.75 -0.25 5.75");
+  cmd(lmp, "create_box 1 box");
+  cmd(lmp, "create_atoms 1 box");
+  cmd(lmp, "region notch block 3.5 5.5 -1 3.5 -1 9 units lattice");
+  if (!delete_after) cmd(lmp, "delete_atoms region notch compress no");
+  cmd(lmp, "set group all density 7850");
+  cmd(lmp, "set group all volume 1e-9");
+  cmd(lmp, "pair_style peri/nospd");
+  cmd(lmp, "pair_coeff * * 200e9 0.3 0.003015");
+  cmd(lmp, "run 0");
+  if (delete_after) cmd(lmp, "delete_atoms region notch compress " + compress);
+  // a smooth nonlinear displacement of the reference positions
+  double **x = lmp->atom->x, **x0 = lmp->atom->x0;
+  for (int i = 0; i < lmp->atom->nlocal; i++) {
+    const double X = x0[i][0], Y = x0[i][1], Z = x0[i][2];
+    x[i][0] = X + 1e-3 * X + 2e-2 * Y * Y;
+    x[i][1] = Y - 5e-4 * Y + 3e-2 * X * Z;
+    x[i][2] = Z + 8e-4 * Z + 1e-2 * X * X;
+  }
+  cmd(lmp, "run 0");
+  Snapshot s;
+  auto *fb = bonds(lmp);
+  s.bonds = fb->nbonds_total;
+  s.vanished = (bigint) fb->compute_vector(4);
+  for (int i = 0; i < lmp->atom->nlocal; i++) {
+    const std::array<long, 3> key = {std::lround(x0[i][0] * 1e6), std::lround(x0[i][1] * 1e6),
+                                     std::lround(x0[i][2] * 1e6)};
+    s.force[key] = {lmp->atom->f[i][0], lmp->atom->f[i][1], lmp->atom->f[i][2]};
+  }
+  delete lmp;
+  return s;
+}
+
+void expect_same_body(const Snapshot &a, const Snapshot &b)
+{
+  EXPECT_EQ(a.bonds, b.bonds);
+  ASSERT_EQ(a.force.size(), b.force.size());
+  double fmax = 0.0, diff = 0.0;
+  for (const auto &[key, f] : a.force) {
+    auto it = b.force.find(key);
+    ASSERT_NE(it, b.force.end());
+    for (int k = 0; k < 3; k++) {
+      fmax = std::max(fmax, std::abs(f[k]));
+      diff = std::max(diff, std::abs(f[k] - it->second[k]));
+    }
+  }
+  EXPECT_GT(fmax, 0.0);
+  EXPECT_LT(diff, 1e-12 * fmax);
+}
+
+TEST(RobustnessDelete, RenumberedIdsBodyAsIfBuiltNotched)
+{
+  const auto built = notched(false, "no");
+  const auto cut = notched(true, "yes");
+  expect_same_body(built, cut);
+  EXPECT_EQ(built.vanished, 0);
+  EXPECT_GT(cut.vanished, 0);
+}
+
+TEST(RobustnessDelete, KeptIdsBodyAsIfBuiltNotched)
+{
+  const auto built = notched(false, "no");
+  const auto cut = notched(true, "no");
+  expect_same_body(built, cut);
+  EXPECT_GT(cut.vanished, 0);
+}
+
+/* ----------------------------------------------------------------------
+   stability
+------------------------------------------------------------------------- */
+
+// Silling and Askari (2005): dt = sqrt(2 rho / sum_j V_j c / |xi_j|), with
+// the micromodulus of the P-wave modulus, 10 M / (pi delta^4) in 3D; the
+// smallest over the points is an interior point's (the fullest family).
+TEST_F(Robustness, StableTimestepIsTheSillingAskariFormula)
+{
+  Block blk;
+  blk.n = 9;
+  make_block(lmp, blk);
+  cmd(lmp, "run 0");
+  const double dx = blk.dx, delta = blk.delta(), V = dx * dx * dx, rho = 7850.0;
+  const double lambda = blk.E * blk.nu / ((1 + blk.nu) * (1 - 2 * blk.nu));
+  const double mu = blk.E / (2 * (1 + blk.nu));
+  const double c = 10.0 * (lambda + 2 * mu) / (M_PI * std::pow(delta, 4));
+  double sum = 0.0;
+  for (int a = -4; a <= 4; a++)
+    for (int b = -4; b <= 4; b++)
+      for (int d = -4; d <= 4; d++) {
+        const double r = dx * std::sqrt(double(a * a + b * b + d * d));
+        if (r > 0.0 && r <= delta) sum += V * c / r;
+      }
+  const double expected = std::sqrt(2.0 * rho / sum);
+  EXPECT_NEAR(bonds(lmp)->stable_timestep(1), expected, 1e-12 * expected);
+  EXPECT_EQ(bonds(lmp)->stable_timestep(2), 0.0);    // no atoms of type 2
+}
+
+// A time step well above the estimate: the run stops on the step the
+// instability shows, naming the atom, the time step and the estimate.
+TEST_F(Robustness, UnstableRunStopsNamingTheCause)
+{
+  const auto msg = shaken_block_run(5.0, 200);
+  EXPECT_THAT(msg, HasSubstr("the run became unstable"));
+  EXPECT_THAT(msg, HasSubstr("exceeds the stable estimate"));
+  EXPECT_THAT(msg, ::testing::ContainsRegex("step [0-9]+: atom [0-9]+"));
+  EXPECT_GT(lmp->update->ntimestep, 0);
+}
+
+// the estimate goes to the log at setup, and a warning when the time step
+// exceeds it (the run may still survive a little above it)
+TEST_F(Robustness, TimestepAboveTheEstimateWarns)
+{
+  Block blk;
+  blk.n = 7;
+  make_block(lmp, blk);
+  const std::string log = "robustness_timestep.log";    // in the build folder
+  cmd(lmp, "log " + log);
+  cmd(lmp, "timestep 1e-8");
+  cmd(lmp, "run 0");
+  cmd(lmp, "timestep 1e-6");
+  cmd(lmp, "run 0");
+  cmd(lmp, "log none");
+  std::ifstream in(log);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::remove(log.c_str());
+  EXPECT_THAT(text, HasSubstr("stable time step estimate (Silling-Askari, P-wave modulus): type 1"));
+  // one warning: for the second run, none for the first (below the estimate)
+  const auto warn = text.find("WARNING: Fix PERI_NEIGH/NOSPD: timestep 1e-06 exceeds the stable");
+  EXPECT_NE(warn, std::string::npos);
+  EXPECT_EQ(text.find("exceeds the stable"), text.rfind("exceeds the stable"));
+}
+
+TEST_F(Robustness, StableRunBelowTheEstimateDoesNotStop)
+{
+  EXPECT_EQ(shaken_block_run(0.8, 500), "");
+}
+
+TEST_F(Robustness, NonFiniteVelocityStops)
+{
+  Block blk;
+  blk.n = 7;
+  make_block(lmp, blk);
+  cmd(lmp, "fix 1 all nve");
+  cmd(lmp, "run 0");
+  lmp->atom->v[5][1] = std::numeric_limits<double>::quiet_NaN();
+  const auto msg = error_of(lmp, "run 1");
+  EXPECT_THAT(msg, HasSubstr("atom " + std::to_string(lmp->atom->tag[5]) +
+                             " has a non-finite position or velocity"));
+}
+
+}    // namespace
