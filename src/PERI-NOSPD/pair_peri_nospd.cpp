@@ -193,7 +193,8 @@ void PairPeriNospd::settings(int narg, char **arg)
       temperature_name = (temperature_kind == TEMP_NONE) ? "" : v.substr(2);
       iarg += 2;
     } else
-      error->all(FLERR, "{}: unknown keyword '{}'", cmd, key);
+      error->all(FLERR, "{}: unknown keyword '{}'{}", cmd, key,
+                 (key == "form" || key == "ratio") ? " (a keyword of peri/nospd/hs)" : "");
   }
   if (domain->dimension == 3 && plane_given)
     error->all(FLERR, "{}: keyword plane applies to 2D only (dimension 2)", cmd);

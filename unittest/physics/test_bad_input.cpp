@@ -34,6 +34,23 @@ class BadInput : public ::testing::Test {
       cmd(lmp, "mass 1 1.0");
     }
   }
+
+  // the error of a pair_coeff line (after the default pair style)
+  std::string pair_coeff_error(const std::string &args)
+  {
+    deck();
+    cmd(lmp, "pair_style peri/nospd");
+    return error_of(lmp, "pair_coeff " + args);
+  }
+
+  // the error of a command given after a complete steel deck
+  std::string error_after_steel(const std::string &line)
+  {
+    deck();
+    cmd(lmp, "pair_style peri/nospd");
+    cmd(lmp, "pair_coeff * * 200e9 0.3 0.003");
+    return error_of(lmp, line);
+  }
 };
 
 TEST_F(BadInput, WrongAtomStyle)
@@ -130,9 +147,7 @@ TEST_F(BadInput, UnknownKeyword)
 
 TEST_F(BadInput, MaterialNotInFile)
 {
-  deck();
-  cmd(lmp, "pair_style peri/nospd");
-  EXPECT_THAT(error_of(lmp, "pair_coeff * * materials.nospd unobtainium 0.003"),
+  EXPECT_THAT(pair_coeff_error("* * materials.nospd unobtainium 0.003"),
               HasSubstr("material 'unobtainium' not found in file materials.nospd"));
 }
 
@@ -177,6 +192,89 @@ TEST_F(BadInput, SingularFamiliesCountedNoNaN)
   EXPECT_EQ((int) fix->compute_vector(2), (int) lmp->atom->natoms);
   for (int i = 0; i < lmp->atom->nlocal; i++)
     for (int k = 0; k < 3; k++) EXPECT_TRUE(std::isfinite(lmp->atom->f[i][k]));
+}
+
+/* ----------------------------------------------------------------------
+   more hostile decks: each command's argument errors name the command and
+   the value (the message fragments below are the contract)
+------------------------------------------------------------------------- */
+
+TEST_F(BadInput, PairCoeffTooFewValues)
+{
+  EXPECT_THAT(pair_coeff_error("* * 200e9 0.3"), HasSubstr("expected 'I J E nu delta'"));
+}
+
+TEST_F(BadInput, MaterialFileMissing)
+{
+  EXPECT_THAT(pair_coeff_error("* * no_such_file.nospd steel 0.003"),
+              HasSubstr("cannot open peri/nospd material potential file no_such_file.nospd"));
+}
+
+TEST_F(BadInput, KeywordWithoutValue)
+{
+  deck();
+  EXPECT_THAT(error_of(lmp, "pair_style peri/nospd stabilization"),
+              HasSubstr("keyword stabilization needs 1 value(s)"));
+}
+
+TEST_F(BadInput, UnknownInfluence)
+{
+  deck();
+  EXPECT_THAT(error_of(lmp, "pair_style peri/nospd influence gaussian"),
+              HasSubstr("unknown influence 'gaussian' (constant, inverse)"));
+}
+
+TEST_F(BadInput, SingularTolOutOfRange)
+{
+  deck();
+  EXPECT_THAT(error_of(lmp, "pair_style peri/nospd singular_tol -1"), HasSubstr("singular_tol must be in (0,1), got -1"));
+}
+
+TEST_F(BadInput, NegativeThickness)
+{
+  deck();
+  EXPECT_THAT(error_of(lmp, "pair_style peri/nospd thickness -0.01"), HasSubstr("thickness must be > 0, got -0.01"));
+}
+
+// form and ratio belong to the horizon-stabilized style
+TEST_F(BadInput, HsKeywordOnClassicalStyle)
+{
+  deck();
+  EXPECT_THAT(error_of(lmp, "pair_style peri/nospd form II"),
+              HasSubstr("unknown keyword 'form' (a keyword of peri/nospd/hs)"));
+}
+
+TEST_F(BadInput, ComputeUnknownQuantity)
+{
+  EXPECT_THAT(error_after_steel("compute s all nospd/atom stress sigma"),
+              HasSubstr("unknown quantity 'sigma'"));
+}
+
+TEST_F(BadInput, BondComputeUnknownQuantity)
+{
+  EXPECT_THAT(error_after_steel("compute b all nospd/bond/local id length"),
+              HasSubstr("unknown quantity 'length'"));
+}
+
+TEST_F(BadInput, ComputeWithoutNospdPairStyle)
+{
+  deck();
+  cmd(lmp, "pair_style peri/pmb");
+  cmd(lmp, "pair_coeff * * 1e22 0.003 0.001 0.25");
+  cmd(lmp, "compute s all nospd/atom stress");
+  EXPECT_THAT(error_of(lmp, "run 0"), HasSubstr("requires a peri/nospd pair style"));
+}
+
+TEST_F(BadInput, DamageFixWithoutCriterion)
+{
+  EXPECT_THAT(error_after_steel("fix d all nospd/damage"),
+              HasSubstr("Illegal fix nospd/damage command: missing criterion"));
+}
+
+TEST_F(BadInput, DamageStretchNotPositive)
+{
+  EXPECT_THAT(error_after_steel("fix d all nospd/damage stretch -0.001"),
+              HasSubstr("critical stretch must be > 0, got -0.001"));
 }
 
 }    // namespace
