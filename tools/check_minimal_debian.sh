@@ -19,11 +19,16 @@ fi
 rm -rf "$ROOTFS/root/peri-nospd"; mkdir -p "$ROOTFS/root/peri-nospd"
 (cd "$SRC" && git ls-files -co --exclude-standard -z | tar --null -T - -cf -) |
   tar -xf - -C "$ROOTFS/root/peri-nospd"
-for m in proc sys dev dev/pts; do
-  mountpoint -q "$ROOTFS/$m" || mount --bind "/$m" "$ROOTFS/$m"
+# a user's container has /proc, /sys and /dev with /dev/shm (Open MPI's
+# shared memory): bind them recursively
+for m in proc sys dev; do
+  mountpoint -q "$ROOTFS/$m" || mount --rbind "/$m" "$ROOTFS/$m"
 done
 cp /etc/resolv.conf "$ROOTFS/etc/resolv.conf"
-trap 'for m in dev/pts dev sys proc; do umount "$ROOTFS/$m" 2> /dev/null || true; done' EXIT
+# debootstrap writes no /etc/hosts, a container runtime or installer does:
+# without the host name in it every MPI start waits for DNS (seconds)
+[ -s "$ROOTFS/etc/hosts" ] || printf '127.0.0.1 localhost\n127.0.1.1 %s\n' "$(hostname)" > "$ROOTFS/etc/hosts"
+trap 'for m in dev sys proc; do umount -R "$ROOTFS/$m" 2> /dev/null || true; done' EXIT
 for tool in make g++ git; do
   chroot "$ROOTFS" /usr/bin/env -i PATH=/usr/sbin:/usr/bin:/sbin:/bin bash -c "command -v $tool" &&
     echo "note: $tool is already in $ROOTFS (not a first run)"
