@@ -29,7 +29,9 @@ JOBS="${JOBS:-$(nproc)}"
 #  python3-matplotlib python3-numpy        charts and measurement scripts
 #  python3-sphinx                          `make doc`
 #  ca-certificates                         apt over https where configured
-DEB_PACKAGES=(build-essential cmake pkg-config libopenmpi-dev openmpi-bin
+#  gfortran                                the test UMATs of `strain umat` are
+#                                          Fortran, as users' UMATs are
+DEB_PACKAGES=(build-essential gfortran cmake pkg-config libopenmpi-dev openmpi-bin
   libfftw3-dev libeigen3-dev libyaml-dev libgtest-dev libgmock-dev
   libpng-dev libjpeg-dev zlib1g-dev python3-matplotlib python3-numpy
   python3-sphinx ca-certificates)
@@ -38,8 +40,10 @@ DEB_PACKAGES=(build-essential cmake pkg-config libopenmpi-dev openmpi-bin
 # against), PLUGIN (to load us), OPENMP, KSPACE (requested build standard);
 # RIGID (fix rigid projectiles in the coupling examples), GRANULAR
 # (granular particles hitting a NOSPD body via pair hybrid/overlay),
-# GRAPHICS (dump image: the PNG pictures of the fracture examples).
-LMP_PACKAGES=(PERI PLUGIN OPENMP KSPACE RIGID GRANULAR GRAPHICS)
+# GRAPHICS (dump image: the PNG pictures of the fracture examples),
+# LEPTON (the Lepton expression library with symbolic derivatives, linked
+# into liblammps, which `strain formula` parses and differentiates W with).
+LMP_PACKAGES=(PERI PLUGIN OPENMP KSPACE RIGID GRANULAR GRAPHICS LEPTON)
 
 die() { echo "ERROR (cmake/lammps.sh): $*" >&2; exit 1; }
 note() { echo "-- [peri-nospd] $*" >&2; }

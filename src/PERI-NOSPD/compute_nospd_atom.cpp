@@ -119,7 +119,7 @@ void ComputeNospdAtom::compute_peratom()
           break;
         case STRAIN: {
           const Mat3 I = Mat3::Identity();
-          const Mat3 e = (pair->law() == NOSPD::Law::SMALL) ? Mat3(0.5 * (F + F.transpose()) - I)
+          const Mat3 e = NOSPD::small_kinematics(pair->law()) ? Mat3(0.5 * (F + F.transpose()) - I)
                                                              : Mat3(0.5 * (F.transpose() * F - I));
           row[c++] = e(0, 0); row[c++] = e(1, 1); row[c++] = e(2, 2);
           row[c++] = e(0, 1); row[c++] = e(0, 2); row[c++] = e(1, 2);
@@ -167,7 +167,7 @@ int ComputeNospdAtom::history_columns(int i, int q, double *row, int c) const
       break;
     case PLASTIC_STRAIN: {
       const double *p = h + H::PLASTIC;
-      if (pair->law() == NOSPD::Law::SMALL) {
+      if (NOSPD::small_kinematics(pair->law())) {
         for (int k = 0; k < 6; k++) row[c + k] = p[k];
       } else {
         const Mat3 Cpinv = Mat3::Identity() + NOSPD::load_sym(p);

@@ -499,8 +499,11 @@ void FixNospdDamage::store_state()
     // the point's history after this force computation (the trial state,
     // which the end of the step accepts)
     const int k = (criterion == EQPS) ? NOSPD::Hist::EQPS : NOSPD::Hist::DAMAGE;
+    // only the built-in plastic types keep EQPS and DAMAGE there
     const bool has = bonds->nhistory > k;
-    for (int i = 0; i < nlocal; i++) state[i][0] = has ? bonds->history_trial[i][k] : 0.0;
+    const int *type = atom->type;
+    for (int i = 0; i < nlocal; i++)
+      state[i][0] = (has && pair->has_history(type[i])) ? bonds->history_trial[i][k] : 0.0;
     return;
   }
   for (int i = 0; i < nlocal; i++) {
@@ -519,7 +522,7 @@ void FixNospdDamage::store_state()
     Mat3 S;
     if (criterion == STRAIN_PRINCIPAL) {
       const Mat3 I = Mat3::Identity();
-      S = (law == NOSPD::Law::SMALL) ? Mat3(0.5 * (F + F.transpose()) - I)
+      S = NOSPD::small_kinematics(law) ? Mat3(0.5 * (F + F.transpose()) - I)
                                      : Mat3(0.5 * (F.transpose() * F - I));
     } else
       S = NOSPD::cauchy_stress(law, F, P);

@@ -22,7 +22,25 @@ namespace NOSPD {
 // HENCKY: logarithmic strain, W = lambda/2 (tr ln V)^2 + mu |ln V|^2,
 //   Kirchhoff stress tau = lambda tr(ln V) I + 2 mu ln V, P = tau F^-T;
 //   the elastic part of the finite-strain plasticity (nospd_plasticity.h).
-enum class Law { SMALL, COROTATIONAL, SVK, NEOHOOKE, HENCKY };
+// USER: a law supplied at run time through the PointLaw interface below
+//   (a strain-energy formula, nospd_formula.h); the material's Lame
+//   constants still set the stabilization and the time step estimate.
+// UMAT_SMALL, UMAT_FINITE: an Abaqus UMAT (nospd_umat.h) with small-strain
+//   (P = sigma) or logarithmic-strain (P = J sigma F^-T) kinematics; it has
+//   history, so it has no point form here.
+enum class Law { SMALL, COROTATIONAL, SVK, NEOHOOKE, HENCKY, USER, UMAT_SMALL, UMAT_FINITE };
+
+// laws whose stress is sigma of the small strain, P = sigma
+inline bool small_kinematics(Law law) { return law == Law::SMALL || law == Law::UMAT_SMALL; }
+
+/* A hyperelastic point law P(F), W(F) defined outside this header.
+   first_piola returns false where the law is undefined (e.g. det F <= 0).
+   Implementations keep scratch space, so one object serves one thread. */
+class PointLaw {
+ public:
+  virtual ~PointLaw() = default;
+  virtual bool first_piola(const Mat3 &F, Mat3 &P, double &W) const = 0;
+};
 
 // Out-of-plane assumption: 3D, or 2D plane strain (F33 = 1) or plane
 // stress (F33 chosen so that P33 = 0).
@@ -31,10 +49,11 @@ enum class Plane { NONE, STRAIN, STRESS };
 struct Lame {
   double lambda, mu;
   double lambda_ps;    // plane-stress lambda* = E nu / (1 - nu^2) = 2 lambda mu/(lambda + 2 mu)
+  const PointLaw *user = nullptr;    // Law::USER: the law itself
   static Lame from_young(double E, double nu)
   {
     return {E * nu / ((1.0 + nu) * (1.0 - 2.0 * nu)), E / (2.0 * (1.0 + nu)),
-            E * nu / (1.0 - nu * nu)};
+            E * nu / (1.0 - nu * nu), nullptr};
   }
   double bulk() const { return lambda + 2.0 * mu / 3.0; }
 };
@@ -97,6 +116,11 @@ inline bool first_piola_3d(Law law, const Lame &m, const Mat3 &F, Mat3 &P, doubl
       W = 0.5 * m.lambda * tr * tr + m.mu * e.squaredNorm();
       return true;
     }
+    case Law::USER:
+      return m.user && m.user->first_piola(F, P, W);
+    case Law::UMAT_SMALL:
+    case Law::UMAT_FINITE:
+      return false;
   }
   return false;
 }
@@ -160,7 +184,7 @@ inline bool first_piola(Law law, Plane plane, const Lame &m, Mat3 &F, Mat3 &P, d
 // Cauchy stress from P: sigma = P F^T / J (small strain: sigma = P).
 inline Mat3 cauchy_stress(Law law, const Mat3 &F, const Mat3 &P)
 {
-  if (law == Law::SMALL) return 0.5 * (P + P.transpose());
+  if (small_kinematics(law)) return 0.5 * (P + P.transpose());
   const Mat3 s = P * F.transpose() / F.determinant();
   return 0.5 * (s + s.transpose());
 }

@@ -52,6 +52,7 @@ PairPeriNospd::PairPeriNospd(LAMMPS *lmp) :
     stab_scalar(nullptr), cut(nullptr), nmax_work(0), bmat(nullptr), tmat(nullptr),
     moments(nullptr), stab_atom(nullptr), comm_tensors(1)
 {
+  user_materials = std::make_unique<NospdUserMaterials>(lmp);
   temperature_kind = TEMP_NONE;
   temperature_index = -1;
   temperature_base = nullptr;
@@ -110,6 +111,7 @@ void PairPeriNospd::allocate()
   flow.assign(n, NOSPD::FlowLaw());
   thermal.assign(n, NOSPD::ThermalLaw());
   inelastic.assign(n, 0);
+  user_materials->resize(atom->ntypes);
 }
 
 /* ----------------------------------------------------------------------
@@ -134,7 +136,11 @@ void PairPeriNospd::settings(int narg, char **arg)
       else if (v == "svk") strain_law = Law::SVK;
       else if (v == "neohookean") strain_law = Law::NEOHOOKE;
       else if (v == "hencky") strain_law = Law::HENCKY;
-      else error->all(FLERR, "{}: unknown strain '{}' (small, finite, svk, neohookean, hencky)", cmd, v);
+      else if (v == "formula") strain_law = Law::USER;
+      else if (v == "umat") strain_law = Law::UMAT_SMALL;
+      else if (v == "umat/finite") strain_law = Law::UMAT_FINITE;
+      else error->all(FLERR, "{}: unknown strain '{}' (small, finite, svk, neohookean, hencky, "
+                      "formula, umat, umat/finite)", cmd, v);
       iarg += 2;
     } else if (key == "stabilization") {
       need(1);
@@ -231,6 +237,7 @@ void PairPeriNospd::coeff(int narg, char **arg)
   std::string name;
   NOSPD::FlowLaw fl;
   NOSPD::ThermalLaw th;
+  NospdUserMaterials::Spec us;
   if (has_material) {
     std::vector<std::string> words;
     if (utils::is_double(arg[2])) {
@@ -240,10 +247,11 @@ void PairPeriNospd::coeff(int narg, char **arg)
     } else {
       name = arg[3];
       read_material_file(arg[2], name, E, nu, G0, words);
-      if (!words.empty()) parse_inelastic(words, fl, th, fmt::format("material {} in {}", name, arg[2]));
+      if (!words.empty())
+        parse_inelastic(words, fl, th, us, fmt::format("material {} in {}", name, arg[2]));
     }
     words.assign(arg + 5, arg + narg);
-    parse_inelastic(words, fl, th, cmd);
+    parse_inelastic(words, fl, th, us, cmd);
     if (!(E > 0.0)) error->all(FLERR, "{}: Young's modulus E must be > 0, got {}", cmd, E);
     if (!(nu > -1.0 && nu < 0.5) && plane_mode != Plane::STRESS)
       error->all(FLERR, "{}: Poisson ratio nu must be in (-1, 0.5), got {}", cmd, nu);
@@ -262,6 +270,7 @@ void PairPeriNospd::coeff(int narg, char **arg)
       material_name[i] = name;
       flow[i] = fl;
       thermal[i] = th;
+      user_materials->spec(i) = us;
       nmat++;
     }
     for (int j = MAX(jlo, i); j <= jhi; j++) {
@@ -286,10 +295,14 @@ void PairPeriNospd::coeff(int narg, char **arg)
      thermal alpha T_ref                 isotropic thermal expansion
      heat cp chi                         adiabatic heating (Taylor-Quinney chi)
      jc_failure D1 D2 D3 D4 D5           Johnson-Cook failure strain (damage)
+   and those of user materials (nospd_user_material.cpp):
+     energy "W" [param name value ...]   strain formula
+     umat lib [symbol s] [props N ...] [statev N]   strain umat
 ------------------------------------------------------------------------- */
 
 void PairPeriNospd::parse_inelastic(const std::vector<std::string> &words, NOSPD::FlowLaw &fl,
-                                    NOSPD::ThermalLaw &th, const std::string &where) const
+                                    NOSPD::ThermalLaw &th, NospdUserMaterials::Spec &us,
+                                    const std::string &where) const
 {
   using NOSPD::Hardening;
   size_t k = 0;
@@ -379,9 +392,10 @@ void PairPeriNospd::parse_inelastic(const std::vector<std::string> &words, NOSPD
       const auto v = values(5);
       th.failure = true;
       for (int m = 0; m < 5; m++) th.D[m] = v[m];
-    } else
+    } else if (!user_materials->parse(words, k, us, where))
       error->all(FLERR, "{}: unknown keyword '{}' (yield, hardening, kinematic, johnson_cook, "
-                 "thermal, heat, jc_failure)", where, key);
+                 "thermal, heat, jc_failure, energy, param, umat, symbol, props, statev)",
+                 where, key);
   }
   if (fl.kind == Hardening::JOHNSON_COOK && (fl.H != 0.0))
     error->all(FLERR, "{}: hardening and johnson_cook exclude each other", where);
@@ -400,7 +414,8 @@ void PairPeriNospd::check_inelastic(int itype) const
   const auto &fl = flow[itype];
   const auto &th = thermal[itype];
   if (!fl.active && th.alpha == 0.0) return;
-  const char *laws[] = {"small", "finite", "svk", "neohookean", "hencky"};
+  const char *laws[] = {"small", "finite", "svk", "neohookean", "hencky", "formula", "umat",
+                        "umat/finite"};
   if (strain_law != Law::SMALL && strain_law != Law::HENCKY)
     error->all(FLERR, "pair_style {}: type {} has {} but strain {} has no inelastic form: use "
                "strain small (additive) or strain hencky (multiplicative, finite)",
@@ -451,6 +466,36 @@ void PairPeriNospd::check_hybrid_names()
                  force->pair_style, mine, theirs, rest, force->pair_style, rest, theirs);
 }
 
+/* ----------------------------------------------------------------------
+   words of a material-file line, "..." or '...' quoting one word (an
+   energy formula with spaces).  Not utils::split_words: in LAMMPS
+   4 Jul 2026 it shifts the words that follow a second quoted word.
+------------------------------------------------------------------------- */
+
+static std::vector<std::string> split_quoted(const std::string &text)
+{
+  std::vector<std::string> words;
+  size_t k = 0;
+  const size_t n = text.size();
+  while (k < n) {
+    while (k < n && isspace(static_cast<unsigned char>(text[k]))) k++;
+    if (k >= n) break;
+    std::string w;
+    while (k < n && !isspace(static_cast<unsigned char>(text[k]))) {
+      const char q = text[k];
+      if (q == '"' || q == '\'') {
+        const size_t end = text.find(q, k + 1);
+        const size_t stop = (end == std::string::npos) ? n : end;
+        w += text.substr(k + 1, stop - k - 1);
+        k = (end == std::string::npos) ? n : end + 1;
+      } else
+        w += text[k++];
+    }
+    words.push_back(w);
+  }
+  return words;
+}
+
 /* ---------------------------------------------------------------------- */
 
 void PairPeriNospd::read_material_file(const std::string &file, const std::string &name,
@@ -488,7 +533,7 @@ void PairPeriNospd::read_material_file(const std::string &file, const std::strin
   MPI_Bcast(&len, 1, MPI_INT, 0, world);
   rest.resize(len);
   MPI_Bcast(&rest[0], len, MPI_CHAR, 0, world);
-  extra = utils::split_words(rest);
+  extra = split_quoted(rest);
   E = vals[0];
   nu = vals[1];
   G0 = vals[2];
@@ -587,14 +632,19 @@ void PairPeriNospd::init_style()
   comm_forward = 9 * comm_tensors + 1;
 
   // inelastic types: history in the bonds fix, a temperature source
-  bool any_history = false;
+  // user materials: formula laws go into lame[i].user, UMATs are opened
+  user_materials->setup(strain_law, plane_mode, active.data(), lame, youngs, poisson,
+                        material_name);
+  int history_size = 0;
   for (int i = 1; i <= atom->ntypes; i++) {
-    inelastic[i] = 0;
+    inelastic[i] = POINT_ELASTIC;
     if (!active[i]) continue;
     check_inelastic(i);
-    inelastic[i] = (flow[i].active || thermal[i].alpha != 0.0) ? 1 : 0;
-    any_history = any_history || inelastic[i];
+    if (user_materials->is_umat(i)) inelastic[i] = POINT_UMAT;
+    else if (flow[i].active || thermal[i].alpha != 0.0) inelastic[i] = POINT_PLASTIC;
+    if (inelastic[i] == POINT_PLASTIC) history_size = MAX(history_size, NOSPD::Hist::SIZE);
   }
+  history_size = MAX(history_size, user_materials->history_size());
   if (temperature_kind == TEMP_PROPERTY) {
     int flag, cols;
     temperature_index = atom->find_custom(temperature_name.c_str(), flag, cols);
@@ -611,7 +661,7 @@ void PairPeriNospd::init_style()
   }
 
   ensure_bonds_fix();
-  if (any_history) fix_bonds->set_history_size(NOSPD::Hist::SIZE);
+  if (history_size) fix_bonds->set_history_size(history_size);
   NospdBondModel model;
   model.horizon = cut;
   model.influence = influence;
@@ -732,17 +782,7 @@ void PairPeriNospd::constitutive_pass(int eflag)
     const Mat3 Ki = NOSPD::load(kinv[i]);
     Mat3 P;
     double W = 0.0;
-    if (history_point) {
-      env.T_base = temperature_base[i];
-      env.rho = atom->rmass[i];
-      const auto st = NOSPD::inelastic_point(strain_law, plane_mode, lame[itype], flow[itype],
-                                             thermal[itype], env, F, hist[i], hist_trial[i], P, W);
-      if (st != NOSPD::ReturnStatus::OK) inelastic_failure(i, st, F);
-    } else if (!NOSPD::first_piola(strain_law, plane_mode, lame[itype], F, P, W))
-      error->one(FLERR, "pair_style {}: atom {} on step {} has det F = {:.6g}: the "
-                 "finite-strain law is undefined for an inverted or collapsed family{}",
-                 force->pair_style, atom->tag[i], update->ntimestep, F.determinant(),
-                 fix_bonds->unstable_cause());
+    point_stress(i, F, P, W, env);
     NOSPD::store(F, defgrad[i]);
     NOSPD::store(P, pk1[i]);
     const Mat3 A = P * Ki;
@@ -772,6 +812,78 @@ void PairPeriNospd::constitutive_pass(int eflag)
     }
   }
   if (nhist) fix_bonds->trial_history_ready();
+}
+
+/* ----------------------------------------------------------------------
+   P and W of owned atom i at F (F33 written back in plane stress): by the
+   type's law alone, the built-in inelastic point or its UMAT
+------------------------------------------------------------------------- */
+
+void PairPeriNospd::point_stress(int i, Mat3 &F, Mat3 &P, double &W, const NOSPD::PointEnv &env0)
+{
+  const int itype = atom->type[i];
+  switch (inelastic[itype]) {
+    case POINT_PLASTIC: {
+      NOSPD::PointEnv env = env0;
+      env.T_base = temperature_base[i];
+      env.rho = atom->rmass[i];
+      const auto st =
+          NOSPD::inelastic_point(strain_law, plane_mode, lame[itype], flow[itype], thermal[itype],
+                                 env, F, fix_bonds->history[i], fix_bonds->history_trial[i], P, W);
+      if (st != NOSPD::ReturnStatus::OK) inelastic_failure(i, st, F);
+      return;
+    }
+    case POINT_UMAT:
+      umat_point(i, F, P, W);
+      return;
+    default:
+      if (!NOSPD::first_piola(strain_law, plane_mode, lame[itype], F, P, W)) law_failure(i, F);
+  }
+}
+
+/* ---------------------------------------------------------------------- */
+
+void PairPeriNospd::law_failure(int i, const Mat3 &F) const
+{
+  const double J = F.determinant();
+  if (strain_law == Law::USER && J > 0.0)
+    error->one(FLERR, "pair_style {}: the energy formula of type {} (W = '{}') gives a "
+               "non-finite stress at atom {} on step {} (det F = {:.6g}){}", force->pair_style,
+               atom->type[i], user_materials->spec(atom->type[i]).energy, atom->tag[i],
+               update->ntimestep, J, fix_bonds->unstable_cause());
+  error->one(FLERR, "pair_style {}: atom {} on step {} has det F = {:.6g}: the "
+             "finite-strain law is undefined for an inverted or collapsed family{}",
+             force->pair_style, atom->tag[i], update->ntimestep, J, fix_bonds->unstable_cause());
+}
+
+/* ----------------------------------------------------------------------
+   one UMAT increment of owned atom i from its accepted history
+------------------------------------------------------------------------- */
+
+void PairPeriNospd::umat_point(int i, const Mat3 &F, Mat3 &P, double &W)
+{
+  const int itype = atom->type[i];
+  NOSPD::UmatPoint pt;
+  pt.dt = update->dt;
+  pt.time = update->atime + (update->ntimestep - update->atimestep) * update->dt;
+  pt.temperature = temperature_base[i];
+  for (int d = 0; d < 3; d++) pt.coords[d] = atom->x[i][d];
+  pt.celent = (domain->dimension == 3) ? cbrt(atom->vfrac[i]) : sqrt(atom->vfrac[i] / thickness);
+  pt.noel = static_cast<int>(atom->tag[i]);
+  pt.kinc = static_cast<int>(update->ntimestep);
+  const auto st = NOSPD::umat_point(user_materials->umat(itype), pt, F, fix_bonds->history[i],
+                                    fix_bonds->history_trial[i], P, W);
+  if (st == NOSPD::UmatStatus::OK) return;
+  const std::string lib = user_materials->library(itype);
+  if (st == NOSPD::UmatStatus::ABORT)
+    error->one(FLERR, "pair_style {}: the UMAT of type {} ({}) stopped at atom {} on step {}: {}",
+               force->pair_style, itype, lib, atom->tag[i], update->ntimestep,
+               NOSPD::umat_report().message);
+  if (st == NOSPD::UmatStatus::NONFINITE)
+    error->one(FLERR, "pair_style {}: the UMAT of type {} ({}) returned a non-finite stress, "
+               "energy or state variable at atom {} on step {}{}", force->pair_style, itype, lib,
+               atom->tag[i], update->ntimestep, fix_bonds->unstable_cause());
+  law_failure(i, F);
 }
 
 /* ----------------------------------------------------------------------
@@ -1012,6 +1124,8 @@ void PairPeriNospd::write_restart(FILE *fp)
       if (setflag[i][j]) fwrite(&cut[i][j], sizeof(double), 1, fp);
     }
   }
+  // user materials only where the law needs them: older restarts stay readable
+  if (user_law()) user_materials->write_restart(fp);
 }
 
 /* ---------------------------------------------------------------------- */
@@ -1043,6 +1157,7 @@ void PairPeriNospd::read_restart(FILE *fp)
       }
     }
   }
+  if (user_law()) user_materials->read_restart(fp);
 }
 
 /* ---------------------------------------------------------------------- */

@@ -16,7 +16,9 @@ PairStyle(peri/nospd,PairPeriNospd);
 
 #include "nospd_plasticity.h"
 #include "nospd_stabilization.h"
+#include "nospd_user_material.h"
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -60,8 +62,10 @@ class PairPeriNospd : public Pair {
   double plate_thickness() const { return thickness; }
   double horizon(int itype, int jtype) const { return cut[itype][jtype]; }
   int stabilization_kind() const { return static_cast<int>(stab); }
-  // inelastic materials (history kept by the bonds fix)
-  bool has_history(int itype) const { return inelastic[itype] != 0; }
+  // built-in inelastic materials (history kept by the bonds fix)
+  bool has_history(int itype) const { return inelastic[itype] == POINT_PLASTIC; }
+  // a type whose stress comes from a UMAT (history in UmatHist's layout)
+  bool is_umat(int itype) const { return inelastic[itype] == POINT_UMAT; }
   const NOSPD::FlowLaw &flow_law(int itype) const { return flow[itype]; }
   const NOSPD::ThermalLaw &thermal_law(int itype) const { return thermal[itype]; }
   // temperature of owned atom i at the last force evaluation: the user's
@@ -86,7 +90,11 @@ class PairPeriNospd : public Pair {
   std::vector<int> active;    // types this style owns (pair hybrid may give others away)
   std::vector<NOSPD::FlowLaw> flow;          // J2 flow law (flow[i].active: plastic)
   std::vector<NOSPD::ThermalLaw> thermal;    // expansion, heating, JC failure
-  std::vector<int> inelastic;                // 1: the type needs history (inelastic_point)
+  // how a type's stress is found: its law alone, the built-in inelastic
+  // point (nospd_plasticity.h) or a UMAT; the last two keep history
+  enum { POINT_ELASTIC = 0, POINT_PLASTIC = 1, POINT_UMAT = 2 };
+  std::vector<int> inelastic;
+  std::unique_ptr<NospdUserMaterials> user_materials;    // formulas and UMATs
   // user temperature: none (the type's reference), a per-atom property
   // d_name (fix property/atom) or an atom-style variable v_name
   enum { TEMP_NONE, TEMP_PROPERTY, TEMP_VARIABLE } temperature_kind;
@@ -128,12 +136,21 @@ class PairPeriNospd : public Pair {
   void read_material_file(const std::string &file, const std::string &name, double &E,
                           double &nu, double &G0, std::vector<std::string> &extra);
   void parse_inelastic(const std::vector<std::string> &words, NOSPD::FlowLaw &fl,
-                       NOSPD::ThermalLaw &th, const std::string &where) const;
+                       NOSPD::ThermalLaw &th, NospdUserMaterials::Spec &us,
+                       const std::string &where) const;
+  void point_stress(int i, NOSPD::Mat3 &F, NOSPD::Mat3 &P, double &W, const NOSPD::PointEnv &env);
+  void umat_point(int i, const NOSPD::Mat3 &F, NOSPD::Mat3 &P, double &W);
   void check_inelastic(int itype) const;
   void fill_base_temperature();
   void inelastic_failure(int i, NOSPD::ReturnStatus st, const NOSPD::Mat3 &F) const;
+  void law_failure(int i, const NOSPD::Mat3 &F) const;
   void check_material(int itype) const;
   void check_hybrid_names();
+  bool user_law() const
+  {
+    return strain_law == NOSPD::Law::USER || strain_law == NOSPD::Law::UMAT_SMALL ||
+        strain_law == NOSPD::Law::UMAT_FINITE;
+  }
 };
 
 }    // namespace LAMMPS_NS

@@ -175,9 +175,11 @@ void PairPeriNospdHS::init_style()
   PairPeriNospd::init_style();
   for (int i = 1; i <= atom->ntypes; i++)
     if (inelastic[i])
-      error->all(FLERR, "pair_style {}: type {} is inelastic (yield, johnson_cook or thermal), "
-                 "which needs history per bond-associated family: not available in the "
-                 "horizon-stabilized style yet, use peri/nospd", force->pair_style, i);
+      error->all(FLERR, "pair_style {}: type {} is {}, which needs history per "
+                 "bond-associated family: not available in the horizon-stabilized style yet, "
+                 "use peri/nospd", force->pair_style, i,
+                 is_umat(i) ? "a UMAT material (strain umat)"
+                            : "inelastic (yield, johnson_cook or thermal)");
   if (!stab_on) comm_forward = 0;    // else the classical B (H) and s travel
   reported = false;
   linear_law.assign(atom->ntypes + 1, NOSPD::LinearLaw());

@@ -42,6 +42,7 @@ const char *law_name(Law law)
     case Law::SVK: return "SVK";
     case Law::NEOHOOKE: return "NEOHOOKE";
     case Law::HENCKY: return "HENCKY";
+    default: break;    // user laws are tested in test_formula.cpp, test_umat.cpp
   }
   return "?";
 }

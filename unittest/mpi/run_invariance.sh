@@ -1,8 +1,8 @@
 #!/bin/bash
 # Decomposition (1, 2, 4 MPI ranks) and restart invariance of one variant.
-# usage: run_invariance.sh LMP DIM "SETTINGS" WORKDIR [STYLE] ["COEFF"]
+# usage: run_invariance.sh LMP DIM "SETTINGS" WORKDIR [STYLE] ["COEFF"] [TOL]
 set -euo pipefail
-LMP=$1; DIM=$2; SETTINGS=$3; WORK=$4; STYLE=${5:-peri/nospd}; COEFF=${6:-}
+LMP=$1; DIM=$2; SETTINGS=$3; WORK=$4; STYLE=${5:-peri/nospd}; COEFF=${6:-}; TOL=${7:-1e-12}
 HERE=$(cd "$(dirname "$0")" && pwd)
 mkdir -p "$WORK"; cd "$WORK"
 MPIRUN=(mpirun --allow-run-as-root --oversubscribe)
@@ -17,4 +17,4 @@ run 4 full np4
 # restart split in the middle, on 2 ranks, continued on 1
 run 2 first split
 run 1 second split
-/usr/bin/python3 "$HERE/compare_dumps.py" 1e-12 serial.dump np2.dump np4.dump split.dump
+/usr/bin/python3 "$HERE/compare_dumps.py" "$TOL" serial.dump np2.dump np4.dump split.dump
