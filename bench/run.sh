@@ -14,6 +14,8 @@ echo "model,settings,points,steps,best_loop_s,point_steps_per_s,ratio_to_lps,sta
 declare -a MODELS=("pmb|" "lps|" "nospd|stabilization none" "nospd|stabilization silling 0.5"
   "nospd|stabilization hourglass 0.2" "nospd|stabilization wan" "nospd|strain finite"
   "nospd|strain neohookean"
+  "nospd|strain formula|energy 0.5*mu*(I1-3)-mu*log(J)+0.5*lambda*log(J)^2 param mu 1.538461538e10 param lambda 2.307692308e10"
+  "nospd|strain formula|energy C10*(I1b-3)+C01*(I2b-3)+0.5*K*(J-1)^2 param C10 6e9 param C01 1.692307692e9 param K 3.333333333e10"
   "nospd|strain small|yield 1e9" "nospd|strain small|yield 2e6 hardening linear 1e9"
   "nospd|strain hencky|yield 2e6 hardening linear 1e9"
   "nospd|strain hencky|johnson_cook 2e6 1e8 0.3 0.01 1 1 293 1000 heat 900 0.9"

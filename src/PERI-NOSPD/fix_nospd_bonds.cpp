@@ -773,15 +773,15 @@ void FixNospdBonds::count_bonds()
    cancellation between Y and xi, so F is exact to round-off.
 ------------------------------------------------------------------------- */
 
-void FixNospdBonds::compute_deformation(double **moments)
+void FixNospdBonds::compute_deformation(double **moments, int from, int to)
 {
   // flat views of the per-atom arrays: one load per value in the inner loop
   const double *_noalias const xf = atom->x[0];
   const double *_noalias const x0f = x0s[0];
   const int *_noalias const bj = bond_j;
   const double *_noalias const bw = bond_w;
-  const int nlocal = atom->nlocal;
-  for (int i = 0; i < nlocal; i++) {
+  if (to < 0) to = atom->nlocal;
+  for (int i = from; i < to; i++) {
     double *F = defgrad[i];
     if (singular[i]) {
       for (int k = 0; k < 9; k++) F[k] = (k % 4 == 0) ? 1.0 : 0.0;

@@ -87,7 +87,8 @@ class FixNospdBonds : public FixPeriNeigh {
   // Pass 1: F = I + (sum_j w U (x) xi) K^-1 for every owned atom.  When
   // `moments` is given it also receives sum_j w U (x) U (6 values, xx yy zz
   // xy xz yz) per atom, which the stabilization energy needs.
-  void compute_deformation(double **moments = nullptr);
+  // F (and the moments) of the owned atoms [from, to); to < 0: all
+  void compute_deformation(double **moments = nullptr, int from = 0, int to = -1);
 
   // Breaking bonds (damage fix): zero the partner slot, mark K^-1 stale.
   // Call bonds_changed() once after a batch of breaks on all ranks.

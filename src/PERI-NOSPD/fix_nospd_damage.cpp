@@ -48,6 +48,8 @@
 #include "nospd_damage.h"
 #include "nospd_plasticity.h"
 
+#include "nospd_threads.h"
+
 #include <cmath>
 #include <cstring>
 
@@ -94,7 +96,7 @@ constexpr int FLAG_INGROUP = 4;
 /* ---------------------------------------------------------------------- */
 
 FixNospdDamage::FixNospdDamage(LAMMPS *lmp, int narg, char **arg) :
-    Fix(lmp, narg, arg), criterion(NONE), from_g0(false), value(0.0), g0_given(false),
+    Fix(lmp, narg, arg), nthreads(1), criterion(NONE), from_g0(false), value(0.0), g0_given(false),
     scatter_width(0.0), alpha(0.0), scatter_seed(0), nevery(1), nofail_groupbit(0),
     nofail_region_id(nullptr), nofail_region(nullptr), detach_singular(false), contact(false),
     contact_scale(15.0), contact_radius(0.0), contact_rc(0.0), list(nullptr), pair(nullptr),
@@ -506,7 +508,12 @@ void FixNospdDamage::store_state()
       state[i][0] = (has && pair->has_history(type[i])) ? bonds->history_trial[i][k] : 0.0;
     return;
   }
-  for (int i = 0; i < nlocal; i++) {
+  NOSPD::run_ranges(nthreads, nlocal, [&](int from, int to, int) { store_state_range(law, from, to); });
+}
+
+void FixNospdDamage::store_state_range(NOSPD::Law law, int from, int to)
+{
+  for (int i = from; i < to; i++) {
     double *c = state[i];
     const bool sing = bonds->singular[i] != 0;
     if (sing) {
@@ -631,8 +638,11 @@ void FixNospdDamage::evaluate_and_break(bool apply)
   const bool inverse = bonds->get_model().influence == NospdBondModel::INVERSE;
 
   const bool track_smin = (criterion == STRETCH && alpha > 0.0);
-  std::vector<std::pair<int, int>> cut;
-  for (int i = 0; i < nlocal; i++) {
+  // one list per thread, joined in thread order: the serial list
+  std::vector<std::vector<std::pair<int, int>>> cuts(NOSPD::range_count(nthreads, nlocal));
+  NOSPD::run_ranges(cuts.size(), nlocal, [&](int from, int to, int tid) {
+  std::vector<std::pair<int, int>> &cut = cuts[tid];
+  for (int i = from; i < to; i++) {
     const int fi = static_cast<int>(cdata[i][3]);
     double smin = 0.0;
     bool first = true;
@@ -715,7 +725,10 @@ void FixNospdDamage::evaluate_and_break(bool apply)
     }
     if (track_smin) state[i][0] = smin;
   }
+  });
   if (!apply) return;
+  std::vector<std::pair<int, int>> cut;
+  for (auto &c : cuts) cut.insert(cut.end(), c.begin(), c.end());
   nbroken_step = break_list(cut);
   nbroken_total += nbroken_step;
 }
@@ -744,7 +757,10 @@ void FixNospdDamage::stretch_cuts(std::vector<std::pair<int, int>> &cut)
   const bool one_type = (atom->ntypes == 1);
   const double limit1 = crit[1][1];
 
-  for (int i = 0; i < nlocal; i++) {
+  std::vector<std::vector<std::pair<int, int>>> cuts(NOSPD::range_count(nthreads, nlocal));
+  NOSPD::run_ranges(cuts.size(), nlocal, [&](int from, int to, int tid) {
+  std::vector<std::pair<int, int>> &mine = cuts[tid];
+  for (int i = from; i < to; i++) {
     const double *ci = cd + (bigint) nc * i;
     const int fi = static_cast<int>(ci[3]);
     if (!(fi & FLAG_INGROUP)) continue;
@@ -758,7 +774,7 @@ void FixNospdDamage::stretch_cuts(std::vector<std::pair<int, int>> &cut)
       if (!(fj & FLAG_INGROUP)) continue;
       if ((fi | fj) & FLAG_NOFAIL) continue;
       if (detach_singular && ((fi | fj) & FLAG_SINGULAR)) {
-        cut.emplace_back(i, bslot[b]);
+        mine.emplace_back(i, bslot[b]);
         continue;
       }
       double xi[3] = {x0f[3 * j] - xi0, x0f[3 * j + 1] - yi0, x0f[3 * j + 2] - zi0};
@@ -773,9 +789,11 @@ void FixNospdDamage::stretch_cuts(std::vector<std::pair<int, int>> &cut)
                                        NOSPD::position_key(x0[j]), scatter_width);
       // s >= s_c  <=>  |Y|^2 >= (1 + s_c)^2 |xi|^2, without square roots
       const double f = 1.0 + limit;
-      if (ry2 >= f * f * rxi2 || std::isnan(ry2)) cut.emplace_back(i, bslot[b]);
+      if (ry2 >= f * f * rxi2 || std::isnan(ry2)) mine.emplace_back(i, bslot[b]);
     }
   }
+  });
+  for (auto &c : cuts) cut.insert(cut.end(), c.begin(), c.end());
 }
 
 /* ----------------------------------------------------------------------
@@ -886,9 +904,18 @@ void FixNospdDamage::contact_forces()
   int *npartner = bonds->npartner;
   tagint **partner = bonds->partner;
 
-  bigint nc = 0;
-  double e = 0.0;
-  for (int ii = 0; ii < inum; ii++) {
+  // per thread: contacts, energy, global virial
+  struct Sums {
+    bigint nc = 0;
+    double e = 0.0;
+    double v[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+  };
+  std::vector<Sums> sums(NOSPD::range_count(nthreads, inum));
+  NOSPD::run_ranges(sums.size(), inum, [&](int from, int to, int tid) {
+  bigint &nc = sums[tid].nc;
+  double &e = sums[tid].e;
+  double *vsum = sums[tid].v;
+  for (int ii = from; ii < to; ii++) {
     const int i = ilist[ii];
     if (!(mask[i] & groupbit)) continue;
     const int *jlist = firstneigh[i];
@@ -924,10 +951,22 @@ void FixNospdDamage::contact_forces()
         // 1/2 (x_i - x_j) (x) f_i, x_i - x_j = -(dx, dy, dz)
         double v[6] = {-0.5 * fpair * dx * dx, -0.5 * fpair * dy * dy, -0.5 * fpair * dz * dz,
                        -0.5 * fpair * dx * dy, -0.5 * fpair * dx * dz, -0.5 * fpair * dy * dz};
-        v_tally(i, v);
+        if (vflag_global)
+          for (int k = 0; k < 6; k++) vsum[k] += v[k];
+        if (vflag_atom)
+          for (int k = 0; k < 6; k++) vatom[i][k] += v[k];
       }
       nc++;
     }
+  }
+  });
+  bigint nc = 0;
+  double e = 0.0;
+  for (const Sums &t : sums) {
+    nc += t.nc;
+    e += t.e;
+    if (vflag_global)
+      for (int k = 0; k < 6; k++) virial[k] += t.v[k];
   }
   econtact = e;
   bigint all = 0;

@@ -13,6 +13,8 @@ FixStyle(nospd/damage,FixNospdDamage);
 
 #include "fix.h"
 
+#include "nospd_constitutive.h"
+
 #include <array>
 #include <vector>
 
@@ -58,6 +60,9 @@ class FixNospdDamage : public Fix {
   };
 
  protected:
+  // threads of the per-atom loops: 1 here, comm->nthreads in the /omp
+  // variant (fix nospd/damage/omp, what `-sf omp` picks)
+  int nthreads;
   int criterion;
   bool from_g0;             // critical value from the fracture energy
   double value;             // critical value (or G0 when from_g0 and given)
@@ -100,6 +105,7 @@ class FixNospdDamage : public Fix {
 
   void setup_tables();
   void store_state();
+  void store_state_range(NOSPD::Law law, int from, int to);
   void fill_comm_data();
   void evaluate_and_break(bool apply = true);
   void stretch_cuts(std::vector<std::pair<int, int>> &cut);

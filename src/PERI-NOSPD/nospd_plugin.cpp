@@ -13,8 +13,11 @@
 #include "compute_nospd_bond_local.h"
 #include "fix_nospd_bonds.h"
 #include "fix_nospd_damage.h"
+#include "fix_nospd_damage_omp.h"
 #include "pair_peri_nospd.h"
 #include "pair_peri_nospd_hs.h"
+#include "pair_peri_nospd_hs_omp.h"
+#include "pair_peri_nospd_omp.h"
 
 #include <cstring>
 
@@ -41,10 +44,22 @@ Pair *pair_nospd_creator(LAMMPS *lmp)
   return new PairPeriNospd(lmp);
 }
 
+Pair *pair_nospd_omp_creator(LAMMPS *lmp)
+{
+  version_ok(lmp, "pair peri/nospd/omp");
+  return new PairPeriNospdOMP(lmp);
+}
+
 Pair *pair_nospd_hs_creator(LAMMPS *lmp)
 {
   version_ok(lmp, "pair peri/nospd/hs");
   return new PairPeriNospdHS(lmp);
+}
+
+Pair *pair_nospd_hs_omp_creator(LAMMPS *lmp)
+{
+  version_ok(lmp, "pair peri/nospd/hs/omp");
+  return new PairPeriNospdHSOMP(lmp);
 }
 
 Fix *fix_bonds_creator(LAMMPS *lmp, int argc, char **argv)
@@ -57,6 +72,12 @@ Fix *fix_damage_creator(LAMMPS *lmp, int argc, char **argv)
 {
   version_ok(lmp, "fix nospd/damage");
   return new FixNospdDamage(lmp, argc, argv);
+}
+
+Fix *fix_damage_omp_creator(LAMMPS *lmp, int argc, char **argv)
+{
+  version_ok(lmp, "fix nospd/damage/omp");
+  return new FixNospdDamageOMP(lmp, argc, argv);
 }
 
 Compute *compute_bond_local_creator(LAMMPS *lmp, int argc, char **argv)
@@ -94,6 +115,15 @@ extern "C" void lammpsplugin_init(void *lmp, void *handle, void *regfunc)
   plugin.info = "PERI-NOSPD classical correspondence peridynamics (alias of peri/nospd)";
   (*register_plugin)(&plugin, lmp);
 
+  // the OpenMP variant, which `-sf omp` / `suffix omp` picks
+  plugin.name = "peri/nospd/omp";
+  plugin.info = "PERI-NOSPD classical correspondence peridynamics, OpenMP threads";
+  plugin.creator.v1 = (lammpsplugin_factory1 *) &pair_nospd_omp_creator;
+  (*register_plugin)(&plugin, lmp);
+  plugin.name = "nospd/omp";
+  plugin.info = "PERI-NOSPD classical correspondence, OpenMP threads (alias of peri/nospd/omp)";
+  (*register_plugin)(&plugin, lmp);
+
   plugin.style = "pair";
   plugin.name = "peri/nospd/hs";
   plugin.info = "PERI-NOSPD horizon-stabilized (bond-associated) correspondence peridynamics";
@@ -101,6 +131,13 @@ extern "C" void lammpsplugin_init(void *lmp, void *handle, void *regfunc)
   (*register_plugin)(&plugin, lmp);
   plugin.name = "nospd/hs";
   plugin.info = "PERI-NOSPD horizon-stabilized correspondence (alias of peri/nospd/hs)";
+  (*register_plugin)(&plugin, lmp);
+  plugin.name = "peri/nospd/hs/omp";
+  plugin.info = "PERI-NOSPD horizon-stabilized correspondence peridynamics, OpenMP threads";
+  plugin.creator.v1 = (lammpsplugin_factory1 *) &pair_nospd_hs_omp_creator;
+  (*register_plugin)(&plugin, lmp);
+  plugin.name = "nospd/hs/omp";
+  plugin.info = "PERI-NOSPD horizon-stabilized correspondence, OpenMP threads (alias)";
   (*register_plugin)(&plugin, lmp);
 
   plugin.style = "fix";
@@ -125,5 +162,10 @@ extern "C" void lammpsplugin_init(void *lmp, void *handle, void *regfunc)
   plugin.name = "nospd/damage";
   plugin.info = "PERI-NOSPD bond breaking, pre-cracks and contact";
   plugin.creator.v2 = (lammpsplugin_factory2 *) &fix_damage_creator;
+  (*register_plugin)(&plugin, lmp);
+
+  plugin.name = "nospd/damage/omp";
+  plugin.info = "PERI-NOSPD bond breaking, pre-cracks and contact, OpenMP threads";
+  plugin.creator.v2 = (lammpsplugin_factory2 *) &fix_damage_omp_creator;
   (*register_plugin)(&plugin, lmp);
 }

@@ -20,6 +20,8 @@
 #include "update.h"
 #include "variable.h"
 
+#include "nospd_threads.h"
+
 #include <cmath>
 #include <cstring>
 
@@ -722,7 +724,10 @@ void PairPeriNospd::compute(int eflag, int vflag)
   grow_work();
 
   const bool linear_stab = (stab == Stab::SILLING || stab == Stab::WAN);
-  fix_bonds->compute_deformation((eflag && linear_stab) ? moments : nullptr);
+  double **mom = (eflag && linear_stab) ? moments : nullptr;
+  for_ranges(atom->nlocal, true, [&](int from, int to, int, Tally &) {
+    fix_bonds->compute_deformation(mom, from, to);
+  });
   constitutive_pass(eflag);
   comm->forward_comm(this);
 
@@ -750,7 +755,15 @@ void PairPeriNospd::compute(int eflag, int vflag)
 
 void PairPeriNospd::constitutive_pass(int eflag)
 {
-  const int nlocal = atom->nlocal;
+  if (fix_bonds->nhistory) fill_base_temperature();
+  // user laws keep scratch space (formulas) or may not be reentrant (UMATs)
+  for_ranges(atom->nlocal, !user_law(),
+             [&](int from, int to, int, Tally &t) { constitutive_range(from, to, eflag, t); });
+  if (fix_bonds->nhistory) fix_bonds->trial_history_ready();
+}
+
+void PairPeriNospd::constitutive_range(int from, int to, int eflag, Tally &t)
+{
   const int *type = atom->type;
   const int *singular = fix_bonds->singular;
   double **defgrad = fix_bonds->defgrad;
@@ -760,11 +773,10 @@ void PairPeriNospd::constitutive_pass(int eflag)
   const int nhist = fix_bonds->nhistory;
   double **hist = fix_bonds->history;
   double **hist_trial = fix_bonds->history_trial;
-  if (nhist) fill_base_temperature();
   NOSPD::PointEnv env;
   env.dt = update->dt;
 
-  for (int i = 0; i < nlocal; i++) {
+  for (int i = from; i < to; i++) {
     const int itype = type[i];
     const bool history_point = nhist && inelastic[itype];
     if (nhist && (!history_point || singular[i]))
@@ -808,10 +820,9 @@ void PairPeriNospd::constitutive_pass(int eflag)
         else e += 0.5 * NOSPD::load(tmat[i]).cwiseProduct(Z).sum();
       }
       wdens[i] = e;
-      tally_energy(i, e);
+      tally_energy(i, e, t);
     }
   }
-  if (nhist) fix_bonds->trial_history_ready();
 }
 
 /* ----------------------------------------------------------------------
@@ -949,6 +960,22 @@ NOSPD::Mat3 PairPeriNospd::nonaffine_moment(int i, const Mat3 &H, const Mat3 &Ki
 
 /* ---------------------------------------------------------------------- */
 
+void PairPeriNospd::threaded_ranges(int nthreads, int n, const RangeFn &fn)
+{
+  const int nranges = NOSPD::range_count(nthreads, n);
+  std::vector<Tally> tally(nranges);
+  NOSPD::run_ranges(nranges, n, [&](int from, int to, int tid) { fn(from, to, tid, tally[tid]); });
+  for (const Tally &t : tally) add_tally(t);
+}
+
+void PairPeriNospd::add_tally(const Tally &t)
+{
+  eng_vdwl += t.eng;
+  for (int k = 0; k < 6; k++) virial[k] += t.virial[k];
+}
+
+/* ---------------------------------------------------------------------- */
+
 void PairPeriNospd::tally_energy(int i, double e)
 {
   if (eflag_global) eng_vdwl += e;
@@ -965,20 +992,25 @@ void PairPeriNospd::tally_energy(int i, double e)
 
 template <int STAB, int VIRIAL> void PairPeriNospd::force_pass(int /*eflag*/)
 {
+  for_ranges(atom->nlocal, true,
+             [&](int from, int to, int, Tally &t) { force_range<STAB, VIRIAL>(from, to, t); });
+}
+
+template <int STAB, int VIRIAL> void PairPeriNospd::force_range(int from, int to, Tally &t)
+{
   // flat views of the per-atom arrays: one load per value in the inner loop
   const double *_noalias const xf = atom->x[0];
   const double *_noalias const x0f = fix_bonds->x0s[0];
   const double *_noalias const bf = bmat[0];
   const double *_noalias const tf = tmat[0];
   const double *_noalias const sa = stab_atom;
-  const int nlocal = atom->nlocal;
   const int *_noalias const bfirst = fix_bonds->bond_first;
   const int *_noalias const bj = fix_bonds->bond_j;
   const double *_noalias const bw = fix_bonds->bond_w;
   double **ximom = fix_bonds->xi_moment;
   double **umom = fix_bonds->u_moment;
 
-  for (int i = 0; i < nlocal; i++) {
+  for (int i = from; i < to; i++) {
     const double *Bi = bf + 9 * i;
     const double *Ti = tf + 9 * i;
     const double si = sa[i];
@@ -1074,7 +1106,7 @@ template <int STAB, int VIRIAL> void PairPeriNospd::force_pass(int /*eflag*/)
         fz += Ti[6] * u[0] + Ti[7] * u[1] + Ti[8] * u[2];
       }
     }
-    add_force_virial(i, fx, fy, fz, v, VIRIAL);
+    add_force_virial(i, fx, fy, fz, v, VIRIAL, t);
   }
 }
 

@@ -18,6 +18,7 @@ PairStyle(peri/nospd,PairPeriNospd);
 #include "nospd_stabilization.h"
 #include "nospd_user_material.h"
 
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -111,16 +112,46 @@ class PairPeriNospd : public Pair {
   double *stab_atom;   // per-atom stabilization scalar: 0 where K is singular
   int comm_tensors;    // 1 or 2 tensors of 9 in the forward comm
 
+  // The energy and virial sums of a pass over a range of owned atoms: one
+  // per thread in the /omp style, added to eng_vdwl and virial after it.
+  struct Tally {
+    double eng = 0.0;
+    double virial[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+  };
+  // fn(from, to, tid, tally): a pass over the atoms [from, to) by thread tid
+  using RangeFn = std::function<void(int from, int to, int tid, Tally &)>;
+  // Run fn over the atoms [0, n): here in one range; the /omp styles split
+  // it over their threads where the work is thread_safe.  The classical
+  // passes write only their own atoms' rows (gathers over the bonds), so
+  // the ranges are independent.  LAMMPS errors raised inside reach the
+  // caller.
+  virtual void for_ranges(int n, bool thread_safe, const RangeFn &fn)
+  {
+    threaded_ranges(1, n, fn);
+  }
+  // the same over up to nthreads threads (NOSPD::run_ranges), the tallies
+  // added in thread order
+  void threaded_ranges(int nthreads, int n, const RangeFn &fn);
+  void add_tally(const Tally &t);
+
   void allocate();
   void ensure_bonds_fix();
   void grow_work();
   void constitutive_pass(int eflag);
+  void constitutive_range(int from, int to, int eflag, Tally &t);
   NOSPD::Mat3 nonaffine_moment(int i, const NOSPD::Mat3 &H, const NOSPD::Mat3 &Ki) const;
   template <int STAB, int VIRIAL> void force_pass(int eflag);
+  template <int STAB, int VIRIAL> void force_range(int from, int to, Tally &t);
   void tally_energy(int i, double e);
+  void tally_energy(int i, double e, Tally &t)
+  {
+    if (eflag_global) t.eng += e;
+    if (eflag_atom) eatom[i] += e;
+  }
   // the last step of a force pass for owned atom i: its force and the
   // virial of its bonds (v = xx yy zz xy xz yz)
-  void add_force_virial(int i, double fx, double fy, double fz, const double *v, bool virial)
+  void add_force_virial(int i, double fx, double fy, double fz, const double *v, bool virial,
+                        Tally &t)
   {
     double **f = atom->f;
     f[i][0] += fx;
@@ -128,9 +159,15 @@ class PairPeriNospd : public Pair {
     f[i][2] += fz;
     if (!virial) return;
     if (vflag_global)
-      for (int k = 0; k < 6; k++) this->virial[k] += v[k];
+      for (int k = 0; k < 6; k++) t.virial[k] += v[k];
     if (vflag_atom)
       for (int k = 0; k < 6; k++) vatom[i][k] += v[k];
+  }
+  void add_force_virial(int i, double fx, double fy, double fz, const double *v, bool virial)
+  {
+    Tally t;
+    add_force_virial(i, fx, fy, fz, v, virial, t);
+    add_tally(t);
   }
   double stabilization_energy(int i) const;
   void read_material_file(const std::string &file, const std::string &name, double &E,

@@ -88,7 +88,7 @@ NOSPD_KERNEL_CLONES bool evaluate(const BondPattern &p, HSForm form, NOSPD::Law 
 PairPeriNospdHS::PairPeriNospdHS(LAMMPS *lmp) :
     PairPeriNospd(lmp), hs_form(HSForm::II), hs_ratio(1.0), mapped_version(-1),
     nsingular_bonds(0), nfallback_states(0), reported(false), nmax_ghost(0), fghost(nullptr),
-    vghost(nullptr), reverse_virial(0), stab_on(false)
+    vghost(nullptr), reverse_virial(0), nbig(0), stab_on(false)
 {
   if (lmp->citeme) lmp->citeme->add(cite_nospd_hs);
   stab = NOSPD::Stab::NONE;
@@ -235,15 +235,16 @@ void PairPeriNospdHS::compute(int eflag, int vflag)
    into ubuf[lane], and the partners' local indices into jbuf[lane].
 ------------------------------------------------------------------------- */
 
-void PairPeriNospdHS::gather_family(int i, const BondPattern &p, const uint16_t *perm, int lane)
+void PairPeriNospdHS::gather_family(int i, const BondPattern &p, const uint16_t *perm,
+                                    FamilyWork &w, int lane)
 {
   const double *const xf = atom->x[0];
   const double *const x0f = fix_bonds->x0s[0];
   const int *bj = fix_bonds->bond_j + fix_bonds->bond_first[i];
   const double xi = xf[3 * i], yi = xf[3 * i + 1], zi = xf[3 * i + 2];
   const double Xi = x0f[3 * i], Yi = x0f[3 * i + 1], Zi = x0f[3 * i + 2];
-  double *u = ubuf[lane].data();
-  int *jl = jbuf[lane].data();
+  double *u = w.ubuf[lane].data();
+  int *jl = w.jbuf[lane].data();
   for (int s = 0; s < p.n; s++) {
     const int j = bj[perm[s]];
     jl[s] = j;
@@ -260,42 +261,105 @@ void PairPeriNospdHS::gather_family(int i, const BondPattern &p, const uint16_t 
 
 template <int DIM, int VIRIAL> void PairPeriNospdHS::force_pass(int eflag)
 {
+  // a formula law keeps scratch space: one thread
+  const int nlocal = atom->nlocal;
+  prepare_work(comm->nthreads, nlocal + atom->nghost);
+  for_ranges(nlocal, !user_law(), [&](int from, int to, int tid, Tally &t) {
+    force_range<DIM, VIRIAL>(from, to, tid, eflag, t);
+  });
+  // the other threads' scatter, added in thread order
+  double *fg = fghost[0];
+  const int nall = nlocal + atom->nghost;
+  for (size_t tid = 1; tid < work.size(); tid++) {
+    if (!work[tid].used) continue;
+    const double *g = work[tid].fg.data();
+    for (int k = 0; k < 3 * nall; k++) fg[k] += g[k];
+    if (VIRIAL && vflag_atom) {
+      const double *gv = work[tid].vg.data();
+      double *vg = vghost[0];
+      for (int k = 0; k < 6 * nall; k++) vg[k] += gv[k];
+    }
+  }
+}
+
+/* ----------------------------------------------------------------------
+   the families of state_order[from..to) by thread tid
+------------------------------------------------------------------------- */
+
+template <int DIM, int VIRIAL>
+void PairPeriNospdHS::force_range(int from, int to, int tid, int eflag, Tally &t)
+{
   // two lanes pay in 2D, where a family's rows are short; in 3D the rows
   // of two families no longer fit the L1 cache and one lane is faster
   constexpr int LANES = DIM == 2 ? 2 : 1;
-  const int nlocal = atom->nlocal;
   const int *type = atom->type;
+  FamilyWork &w = work[tid];
+  w.used = true;
+  const int nall = atom->nlocal + atom->nghost;
+  double *fg = fghost[0];
+  double *vg = (VIRIAL && vflag_atom) ? vghost[0] : nullptr;
+  if (tid > 0) {
+    std::fill(w.fg.begin(), w.fg.begin() + 3 * nall, 0.0);
+    fg = w.fg.data();
+    if (vg) {
+      std::fill(w.vg.begin(), w.vg.begin() + 6 * nall, 0.0);
+      vg = w.vg.data();
+    }
+  }
   NOSPD::StateOutput out[2];
   NOSPD::LaneInput in[2];
-  for (int q = 0; q < nlocal;) {
+  for (int q = from; q < to;) {
     const int i0 = state_order[q];
     const BondPattern &p = patterns[state_pattern[i0]];
-    const int lanes = (LANES == 2 && q + 1 < nlocal &&
+    const int lanes = (LANES == 2 && q + 1 < to &&
                        state_pattern[state_order[q + 1]] == state_pattern[i0]) ? 2 : 1;
     int atoms[2] = {i0, lanes == 2 ? state_order[q + 1] : -1};
     for (int l = 0; l < lanes; l++) {
       const int i = atoms[l];
-      gather_family(i, p, &state_perm[state_first[i]], l);
+      gather_family(i, p, &state_perm[state_first[i]], w, l);
       in[l].m = &lame[type[i]];
       in[l].lin = &linear_law[type[i]];
-      in[l].U = ubuf[l].data();
-      in[l].t = tbuf[l].data();
+      in[l].U = w.ubuf[l].data();
+      in[l].t = w.tbuf[l].data();
     }
     const bool ok = lanes == 2
-        ? evaluate<DIM, 2>(p, hs_form, strain_law, plane_mode, in, eflag != 0, scratch, out)
-        : evaluate<DIM, 1>(p, hs_form, strain_law, plane_mode, in, eflag != 0, scratch, out);
+        ? evaluate<DIM, 2>(p, hs_form, strain_law, plane_mode, in, eflag != 0, w.scratch, out)
+        : evaluate<DIM, 1>(p, hs_form, strain_law, plane_mode, in, eflag != 0, w.scratch, out);
     for (int l = 0; l < lanes; l++) {
       if (!ok && out[l].bad != -2) {
-        const tagint partner = out[l].bad >= 0 ? atom->tag[jbuf[l][out[l].bad]] : 0;
+        const tagint partner = out[l].bad >= 0 ? atom->tag[w.jbuf[l][out[l].bad]] : 0;
         error->one(FLERR, "pair_style {}: atom {} on step {}: the finite-strain law is "
                    "undefined (det F <= 0) for the {} of its bond to atom {}{}",
                    force->pair_style, atom->tag[atoms[l]], update->ntimestep,
                    out[l].bad >= 0 ? "bond-associated family" : "whole family", partner,
                    fix_bonds->unstable_cause());
       }
-      apply_family<VIRIAL>(atoms[l], p, l, out[l], eflag);
+      apply_family<VIRIAL>(atoms[l], p, w, l, fg, vg, out[l], eflag, t);
     }
     q += lanes;
+  }
+}
+
+/* ----------------------------------------------------------------------
+   per-thread work spaces: scratch and lanes for the largest family, and
+   scatter buffers for the threads after the first
+------------------------------------------------------------------------- */
+
+void PairPeriNospdHS::prepare_work(int nthreads, int nall)
+{
+  if ((int) work.size() < std::max(1, nthreads)) work.resize(std::max(1, nthreads));
+  for (size_t tid = 0; tid < work.size(); tid++) {
+    FamilyWork &w = work[tid];
+    w.used = false;
+    for (int l = 0; l < 2; l++)
+      if ((int) w.ubuf[l].size() < 3 * nbig) {
+        w.ubuf[l].assign(3 * nbig, 0.0);
+        w.tbuf[l].assign(3 * nbig, 0.0);
+        w.jbuf[l].assign(nbig, 0);
+      }
+    if (tid == 0) continue;
+    if ((int) w.fg.size() < 3 * nall) w.fg.resize(3 * nall);
+    if (reverse_virial && (int) w.vg.size() < 6 * nall) w.vg.resize(6 * nall);
   }
 }
 
@@ -355,14 +419,13 @@ void PairPeriNospdHS::stabilization_pass(int eflag)
 ------------------------------------------------------------------------- */
 
 template <int VIRIAL>
-void PairPeriNospdHS::apply_family(int i, const BondPattern &p, int lane,
-                                   const NOSPD::StateOutput &out, int eflag)
+void PairPeriNospdHS::apply_family(int i, const BondPattern &p, FamilyWork &wk, int lane,
+                                   double *fg, double *vg, const NOSPD::StateOutput &out,
+                                   int eflag, Tally &tally)
 {
   double **x = atom->x;
   const double *const vfrac = atom->vfrac;
   const double *const inv_vol = inv_vfrac.data();
-  double *const fg = fghost[0];
-  double *const vg = VIRIAL && vflag_atom ? vghost[0] : nullptr;
   if (p.atom_singular) {
     // no force state of its own, as in the classical style
     NOSPD::store(Mat3::Identity(), fix_bonds->defgrad[i]);
@@ -374,13 +437,13 @@ void PairPeriNospdHS::apply_family(int i, const BondPattern &p, int lane,
   NOSPD::store(out.P, fix_bonds->pk1[i]);
   if (eflag) {
     fix_bonds->energy_density[i] = out.W;
-    tally_energy(i, out.W);
+    tally_energy(i, out.W, tally);
   }
 
   const int n = p.n;
   const double vi = vfrac[i];
-  const double *t = tbuf[lane].data();
-  const int *jl = jbuf[lane].data();
+  const double *t = wk.tbuf[lane].data();
+  const int *jl = wk.jbuf[lane].data();
   const double *w = p.w.data();
   double fx = 0.0, fy = 0.0, fz = 0.0;
   double v[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
@@ -401,12 +464,12 @@ void PairPeriNospdHS::apply_family(int i, const BondPattern &p, int lane,
       const double vij[6] = {hx * gx, hy * gy, hz * gz, hx * gy, hx * gz, hy * gz};
       for (int k = 0; k < 6; k++) v[k] += vij[k];
       if (vflag_global)
-        for (int k = 0; k < 6; k++) virial[k] += r * vij[k];
+        for (int k = 0; k < 6; k++) tally.virial[k] += r * vij[k];
       if (vflag_atom)
         for (int k = 0; k < 6; k++) vg[6 * j + k] += r * vij[k];
     }
   }
-  add_force_virial(i, fx, fy, fz, v, VIRIAL);
+  add_force_virial(i, fx, fy, fz, v, VIRIAL, tally);
 }
 
 /* ----------------------------------------------------------------------
@@ -491,15 +554,10 @@ void PairPeriNospdHS::map_families()
   state_order.assign(nlocal, 0);
   for (int i = 0; i < nlocal; i++) state_order[start[state_pattern[i]]++] = i;
 
-  // scratch for the largest family
-  int nbig = 0;
+  // scratch for the largest family (prepare_work sizes each thread's)
+  nbig = 0;
   for (auto &p : patterns) nbig = std::max(nbig, p.n);
-  for (int l = 0; l < 2; l++)
-    if ((int) ubuf[l].size() < 3 * nbig) {
-      ubuf[l].assign(3 * nbig, 0.0);
-      tbuf[l].assign(3 * nbig, 0.0);
-      jbuf[l].assign(nbig, 0);
-    }
+  prepare_work(1, 0);
   // sum programs for the patterns many families share
   for (size_t k = 0; k < users.size(); k++) {
     if (users[k] < PROGRAM_USERS) continue;
@@ -651,10 +709,11 @@ int PairPeriNospdHS::bond_defgrad(int i, int b, double *F)
   for (int s = 0; s < p.n && slot < 0; s++)
     if (perm[s] == off) slot = s;
   if (slot < 0) return -1;
-  gather_family(i, p, perm, 0);
+  FamilyWork &w = work[0];
+  gather_family(i, p, perm, w, 0);
   Mat3 Fm;
-  const bool own = domain->dimension == 2 ? NOSPD::bond_defgrad<2>(p, slot, ubuf[0].data(), Fm)
-                                          : NOSPD::bond_defgrad<3>(p, slot, ubuf[0].data(), Fm);
+  const bool own = domain->dimension == 2 ? NOSPD::bond_defgrad<2>(p, slot, w.ubuf[0].data(), Fm)
+                                          : NOSPD::bond_defgrad<3>(p, slot, w.ubuf[0].data(), Fm);
   NOSPD::store(Fm, F);
   return own ? 1 : 0;
 }
@@ -723,8 +782,10 @@ double PairPeriNospdHS::memory_usage()
   bytes += (double) state_perm.capacity() * sizeof(uint16_t);
   bytes += (double) state_pattern.capacity() * (3 * sizeof(int) + sizeof(tagint));
   bytes += (double) state_order.capacity() * sizeof(int);
-  bytes += (double) (scratch.work.size() + scratch.side.size() + scratch.sums.size() +
-                     scratch.g.size() + 2 * ubuf[0].size() + 2 * tbuf[0].size()) *
+  for (const FamilyWork &w : work)
+    bytes += (double) (w.scratch.work.size() + w.scratch.side.size() + w.scratch.sums.size() +
+                       w.scratch.g.size() + 2 * w.ubuf[0].size() + 2 * w.tbuf[0].size() +
+                       w.fg.size() + w.vg.size()) *
       sizeof(double);
   return bytes;
 }

@@ -82,10 +82,20 @@ class PairPeriNospdHS : public PairPeriNospd {
   // per type: the law's linear form, where it has one (small strain)
   std::vector<NOSPD::LinearLaw> linear_law;
 
-  // per-family scratch
-  NOSPD::StateScratch scratch;
-  std::vector<double> ubuf[2], tbuf[2];    // per lane: U and t of a family
-  std::vector<int> jbuf[2];                // per lane: partners' local indices
+  // what one thread needs to evaluate families: scratch, lanes and, for
+  // the threads after the first, the forces (and per-atom virial) it
+  // scatters to partners, added to fghost (vghost) in thread order after
+  // the pass.  work[0] scatters into fghost itself.
+  struct FamilyWork {
+    NOSPD::StateScratch scratch;
+    std::vector<double> ubuf[2], tbuf[2];    // per lane: U and t of a family
+    std::vector<int> jbuf[2];                // per lane: partners' local indices
+    std::vector<double> fg, vg;              // threads > 0: scattered forces, virial
+    bool used = false;
+  };
+  std::vector<FamilyWork> work;
+  int nbig;                                // the largest family
+  void prepare_work(int nthreads, int nall);
   std::vector<int> state_order;            // owned atoms grouped by pattern
   std::vector<double> inv_vfrac;           // 1/V, owned and ghost atoms
 
@@ -93,10 +103,12 @@ class PairPeriNospdHS : public PairPeriNospd {
   int match_pattern(int i, std::vector<uint16_t> &perm);
   void report_patterns();
   template <int DIM, int VIRIAL> void force_pass(int eflag);
+  template <int DIM, int VIRIAL> void force_range(int from, int to, int tid, int eflag, Tally &t);
   template <int VIRIAL>
-  void apply_family(int i, const NOSPD::BondPattern &p, int lane, const NOSPD::StateOutput &out,
-                    int eflag);
-  void gather_family(int i, const NOSPD::BondPattern &p, const uint16_t *perm, int lane);
+  void apply_family(int i, const NOSPD::BondPattern &p, FamilyWork &w, int lane, double *fg,
+                    double *vg, const NOSPD::StateOutput &out, int eflag, Tally &t);
+  void gather_family(int i, const NOSPD::BondPattern &p, const uint16_t *perm, FamilyWork &w,
+                     int lane);
 
   // optional stabilization (silling, hourglass) on top of the
   // bond-associated forces

@@ -12,6 +12,9 @@ LAMMPS_PLUGIN_PATH (material files are found through LAMMPS_POTENTIALS).
 
 Style -> page mapping ("pages")
 -------------------------------
+An accelerator variant (NAME ending in "/omp") belongs on its base style's
+page, which must carry ".. index:: KIND NAME" and "Accelerator Variants:
+*NAME*", as LAMMPS's own pages do.
 `plugin list` prints one line per registered style, e.g.
 "2: fix style plugin PERI_NEIGH/NOSPD".  The page of a style of kind KIND
 (pair, fix, compute, bond, ...) and name NAME is
@@ -106,7 +109,15 @@ def registered_styles(lmp):
 ALIASES = {("pair", "nospd"): "peri/nospd", ("pair", "nospd/hs"): "peri/nospd/hs"}
 
 
+def accelerated(name):
+    """The base style of an accelerator variant (peri/nospd/omp -> peri/nospd), else None."""
+    return name[: -len("/omp")] if name.endswith("/omp") else None
+
+
 def page_name(kind, name):
+    # accelerator variants live on their base style's page, as in LAMMPS's docs
+    if accelerated(name):
+        name = accelerated(name)
     name = ALIASES.get((kind, name), name)
     base = name.lower().replace("/", "_")
     return f"{base}.rst" if kind == "command" else f"{kind.lower()}_{base}.rst"
@@ -131,6 +142,16 @@ def check_pages(lmp, docdir):
             continue
         text = open(path, encoding="utf-8").read()
         title = first_heading(text)
+        if accelerated(name):
+            word = "pair_style" if kind == "pair" else kind
+            if not re.search(r"^\.\. index:: " + re.escape(word) + r"\s+" + re.escape(name) + r"\s*$",
+                             text, re.M) or \
+                    not re.search(r"Accelerator Variants:.*\*" + re.escape(name) + r"\*", text):
+                bad.append(f"{kind} style {name} (accelerator variant): {os.path.basename(path)} "
+                           f"needs '.. index:: {word} {name}' and 'Accelerator Variants: *{name}*'")
+            else:
+                print(f"ok   {kind} {name} (accelerator variant) -> doc/{os.path.basename(path)}")
+            continue
         if (kind, name) in ALIASES:
             if not re.search(r"pair_style\s+" + re.escape(name) + r"\b", text):
                 bad.append(f"{kind} style {name} (alias): {os.path.basename(path)} never "

@@ -261,6 +261,44 @@ TEST(UserFormula, BadInput)
               HasSubstr("strain formula has no inelastic form"));
 }
 
+// a material file entry may carry the energy and its constants; pair_coeff
+// keywords after it override them (the file is written to the build folder)
+TEST(UserFormula, MaterialFileEntry)
+{
+  const char *file = "user_materials_test.nospd";
+  FILE *fp = fopen(file, "w");
+  ASSERT_NE(fp, nullptr);
+  fprintf(fp, "# DATE: 2026-11-24 UNITS: si CONTRIBUTOR: test CITATION: none\n"
+              "# a Mooney-Rivlin rubber for the test only\n"
+              "mr_test 2.9032e6 0.45161 1100 0 energy \"C10*(I1b-3) + C01*(I2b-3) + "
+              "0.5*K*(J-1)^2\" param C10 0.4e6 param C01 0.1e6 param K 10.0e6\n");
+  fclose(fp);
+  double pe[3];
+  const std::string coeff[3] = {
+      std::string("mr_test 0.00301"), std::string("mr_test 0.00301 param C01 0.2e6"),
+      std::string("2.9032e6 0.45161 0.00301 energy \"C10*(I1b-3) + C01*(I2b-3) + 0.5*K*(J-1)^2\" "
+                  "param C10 0.4e6 param C01 0.1e6 param K 10.0e6")};
+  for (int c = 0; c < 3; c++) {
+    LAMMPS *lmp = open_lammps();
+    Block b;
+    b.n = 6;
+    b.settings = "strain formula";
+    b.E = 2.9032e6;
+    b.nu = 0.45161;
+    make_block(lmp, b);
+    cmd(lmp, "pair_coeff * * " + std::string(c < 2 ? file : "") + " " + coeff[c]);
+    double **x = lmp->atom->x, **x0 = lmp->atom->x0;
+    for (int i = 0; i < lmp->atom->nlocal; i++) x[i][0] = 1.1 * x0[i][0];
+    cmd(lmp, "run 0");
+    pe[c] = potential_energy(lmp);
+    delete lmp;
+  }
+  std::remove(file);
+  EXPECT_GT(pe[0], 0.0);
+  EXPECT_NEAR(pe[0], pe[2], 1e-12 * pe[0]);    // file = inline
+  EXPECT_GT(pe[1], pe[0] * 1.01);              // the override took
+}
+
 // a formula that goes non-finite under load names the formula and the atom
 TEST(UserFormula, NonFiniteStressIsReported)
 {
