@@ -2,15 +2,17 @@
 # Throughput benchmark (not part of the test suite): LAMMPS's peri/pmb and
 # peri/lps against peri/nospd variants, same scene, same machine, same run.
 # usage: bench/run.sh LMP PLUGIN_DIR [n] [steps] [repeats]
-# Writes bench/results/throughput.csv and prints ratios to peri/lps.
+# Writes bench/results/throughput.csv and prints ratios to peri/lps.  Rows
+# run on one core unless their launch says otherwise: omp2 = one rank with
+# `-sf omp -pk omp 2`, np2 = `mpirun -np 2`.
 set -euo pipefail
 LMP=$1; PLUGIN_DIR=$2; N=${3:-41}; STEPS=${4:-50}; REPEATS=${5:-3}
 HERE=$(cd "$(dirname "$0")" && pwd)
 OUT=$HERE/results; mkdir -p "$OUT"
 export LAMMPS_PLUGIN_PATH=$(cd "$PLUGIN_DIR" && pwd) OMP_NUM_THREADS=1
 CSV=$OUT/throughput.csv
-echo "model,settings,points,steps,best_loop_s,point_steps_per_s,ratio_to_lps,state_bytes_per_point" > "$CSV"
-# style|pair_style keywords[|pair_coeff keywords after the horizon]
+echo "model,settings,ranks,threads,points,steps,best_loop_s,point_steps_per_s,ratio_to_lps,state_bytes_per_point" > "$CSV"
+# [launch:]style|pair_style keywords[|pair_coeff keywords after the horizon]
 declare -a MODELS=("pmb|" "lps|" "nospd|stabilization none" "nospd|stabilization silling 0.5"
   "nospd|stabilization hourglass 0.2" "nospd|stabilization wan" "nospd|strain finite"
   "nospd|strain neohookean"
@@ -19,29 +21,38 @@ declare -a MODELS=("pmb|" "lps|" "nospd|stabilization none" "nospd|stabilization
   "nospd|strain small|yield 1e9" "nospd|strain small|yield 2e6 hardening linear 1e9"
   "nospd|strain hencky|yield 2e6 hardening linear 1e9"
   "nospd|strain hencky|johnson_cook 2e6 1e8 0.3 0.01 1 1 293 1000 heat 900 0.9"
-  "hs|form II" "hs|form I")
+  "hs|form II" "hs|form I"
+  "omp2:nospd|stabilization silling 0.5" "np2:nospd|stabilization silling 0.5"
+  "np2:lps|" "omp2:hs|form II")
 lps_rate=""
 for m in "${MODELS[@]}"; do
+  launch=1; [[ "$m" == *:* && "${m%%|*}" == *:* ]] && { launch=${m%%:*}; m=${m#*:}; }
   style=${m%%|*}; rest=${m#*|}; settings=${rest%%|*}; coeff=""
   [ "$rest" != "$settings" ] && coeff=${rest#*|}
+  pre=(); post=(); ranks=1; threads=1
+  case $launch in
+    omp2) post=(-sf omp -pk omp 2); threads=2 ;;
+    np2) pre=(mpirun --allow-run-as-root -np 2); ranks=2 ;;
+  esac
   best=""
   for r in $(seq "$REPEATS"); do
-    "$LMP" -in "$HERE/in.block" -var n "$N" -var style "$style" -var settings "$settings" \
-      -var coeff "$coeff" -var steps "$STEPS" -log none -screen "$OUT/screen.txt"
+    "${pre[@]}" "$LMP" -in "$HERE/in.block" -var n "$N" -var style "$style" -var settings "$settings" \
+      -var coeff "$coeff" -var steps "$STEPS" -log none -screen "$OUT/screen.txt" "${post[@]}"
     t=$(grep "Loop time" "$OUT/screen.txt" | tail -1 | awk '{print $4}')
     best=$(awk -v a="${best:-1e30}" -v b="$t" 'BEGIN{print (b<a)?b:a}')
   done
   points=$(grep "Loop time" "$OUT/screen.txt" | tail -1 | awk '{print $(NF-1)}')
-  mem=$(awk '/bond and reference state/{print $(NF-1)}' "$OUT/screen.txt")
+  mem=$(awk '/bond and reference state/{print $(NF-1)}' "$OUT/screen.txt" | head -1)
   # the pair style's per-point work arrays: B, T (9+9), energy moments (6), one scalar
   [ -n "$mem" ] && mem=$((mem + 25 * 8))
   rate=$(awk -v p="$points" -v s="$STEPS" -v t="$best" 'BEGIN{printf "%.4g", p*s/t}')
-  [ "$style" = lps ] && lps_rate=$rate
+  [ "$style" = lps ] && [ "$launch" = 1 ] && lps_rate=$rate
   ratio=$(awk -v a="$rate" -v b="${lps_rate:-0}" 'BEGIN{ if (b>0) printf "%.3g", a/b; else print "" }')
   label="$settings${coeff:+ / $coeff}"
-  echo "peri/${style},$label,$points,$STEPS,$best,$rate,$ratio,${mem:-}" >> "$CSV"
+  echo "peri/${style},$label,$ranks,$threads,$points,$STEPS,$best,$rate,$ratio,${mem:-}" >> "$CSV"
   [ "$style" = hs ] && style=nospd/hs
-  printf "%-10s %-34s %9s point-steps/s  x%-6s vs peri/lps  %s B/point\n" "peri/$style" "$label" "$rate" "$ratio" "${mem:-n/a}"
+  printf "%-10s %-34s %dx%d %9s point-steps/s  x%-6s vs peri/lps  %s B/point\n" "peri/$style" "$label" \
+    "$ranks" "$threads" "$rate" "$ratio" "${mem:-n/a}"
 done
 rm -f "$OUT/screen.txt"
 echo "wrote $CSV"

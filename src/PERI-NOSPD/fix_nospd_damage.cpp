@@ -508,7 +508,8 @@ void FixNospdDamage::store_state()
       state[i][0] = (has && pair->has_history(type[i])) ? bonds->history_trial[i][k] : 0.0;
     return;
   }
-  NOSPD::run_ranges(nthreads, nlocal, [&](int from, int to, int) { store_state_range(law, from, to); });
+  NOSPD::run_ranges(nthreads, nlocal,
+                    [&](int from, int to, int) { store_state_range(law, from, to); });
 }
 
 void FixNospdDamage::store_state_range(NOSPD::Law law, int from, int to)
@@ -641,90 +642,90 @@ void FixNospdDamage::evaluate_and_break(bool apply)
   // one list per thread, joined in thread order: the serial list
   std::vector<std::vector<std::pair<int, int>>> cuts(NOSPD::range_count(nthreads, nlocal));
   NOSPD::run_ranges(cuts.size(), nlocal, [&](int from, int to, int tid) {
-  std::vector<std::pair<int, int>> &cut = cuts[tid];
-  for (int i = from; i < to; i++) {
-    const int fi = static_cast<int>(cdata[i][3]);
-    double smin = 0.0;
-    bool first = true;
-    if (track_smin) state[i][0] = 0.0;
-    if (!(fi & FLAG_INGROUP)) continue;
-    for (int b = bfirst[i]; b < bfirst[i + 1]; b++) {
-      const int j = bj[b];
-      const int fj = static_cast<int>(cdata[j][3]);
-      if (!(fj & FLAG_INGROUP)) continue;
-      if ((fi | fj) & FLAG_NOFAIL) continue;
-      const bool i_lo = tag[i] < tag[j];
-      const int a = i_lo ? i : j, c = i_lo ? j : i;
-      if (detach_singular && ((fi | fj) & FLAG_SINGULAR)) {
-        cut.emplace_back(i, bslot[b]);
-        continue;
-      }
-      const double *ca = cdata[a], *cb = cdata[c];
-      double xi[3] = {x0[c][0] - x0[a][0], x0[c][1] - x0[a][1], x0[c][2] - x0[a][2]};
-      if (periodic) min_image(domain, xi);
-      const double U[3] = {cb[0] - ca[0], cb[1] - ca[1], cb[2] - ca[2]};
-      const double Y[3] = {xi[0] + U[0], xi[1] + U[1], xi[2] + U[2]};
-      const double rxi2 = xi[0] * xi[0] + xi[1] * xi[1] + xi[2] * xi[2];
-      const double ry2 = Y[0] * Y[0] + Y[1] * Y[1] + Y[2] * Y[2];
-      double limit = crit[type[a]][type[c]];
-      if (scatter_width > 0.0)
-        limit *= NOSPD::scatter_factor((uint64_t) scatter_seed, NOSPD::position_key(x0[a]),
-                                       NOSPD::position_key(x0[c]), scatter_width);
-      if (criterion == STRETCH) {
-        // with alpha only (the plain criterion runs in stretch_cuts):
-        // Silling & Askari (2005), s_0 = s_00 - alpha s_min per atom, a bond
-        // breaking at the smaller s_0 of its two ends
-        limit -= alpha * std::max(ca[4], cb[4]);
+    std::vector<std::pair<int, int>> &cut = cuts[tid];
+    for (int i = from; i < to; i++) {
+      const int fi = static_cast<int>(cdata[i][3]);
+      double smin = 0.0;
+      bool first = true;
+      if (track_smin) state[i][0] = 0.0;
+      if (!(fi & FLAG_INGROUP)) continue;
+      for (int b = bfirst[i]; b < bfirst[i + 1]; b++) {
+        const int j = bj[b];
+        const int fj = static_cast<int>(cdata[j][3]);
+        if (!(fj & FLAG_INGROUP)) continue;
+        if ((fi | fj) & FLAG_NOFAIL) continue;
+        const bool i_lo = tag[i] < tag[j];
+        const int a = i_lo ? i : j, c = i_lo ? j : i;
+        if (detach_singular && ((fi | fj) & FLAG_SINGULAR)) {
+          cut.emplace_back(i, bslot[b]);
+          continue;
+        }
+        const double *ca = cdata[a], *cb = cdata[c];
+        double xi[3] = {x0[c][0] - x0[a][0], x0[c][1] - x0[a][1], x0[c][2] - x0[a][2]};
+        if (periodic) min_image(domain, xi);
+        const double U[3] = {cb[0] - ca[0], cb[1] - ca[1], cb[2] - ca[2]};
+        const double Y[3] = {xi[0] + U[0], xi[1] + U[1], xi[2] + U[2]};
+        const double rxi2 = xi[0] * xi[0] + xi[1] * xi[1] + xi[2] * xi[2];
+        const double ry2 = Y[0] * Y[0] + Y[1] * Y[1] + Y[2] * Y[2];
+        double limit = crit[type[a]][type[c]];
+        if (scatter_width > 0.0)
+          limit *= NOSPD::scatter_factor((uint64_t) scatter_seed, NOSPD::position_key(x0[a]),
+                                         NOSPD::position_key(x0[c]), scatter_width);
+        if (criterion == STRETCH) {
+          // with alpha only (the plain criterion runs in stretch_cuts):
+          // Silling & Askari (2005), s_0 = s_00 - alpha s_min per atom, a bond
+          // breaking at the smaller s_0 of its two ends
+          limit -= alpha * std::max(ca[4], cb[4]);
+          const double rxi = sqrt(rxi2);
+          const double s = (sqrt(ry2) - rxi) / rxi;
+          if (apply && (s >= limit || std::isnan(s))) cut.emplace_back(i, bslot[b]);
+          else if (first || s < smin) {
+            smin = s;
+            first = false;
+          }
+          continue;
+        }
         const double rxi = sqrt(rxi2);
-        const double s = (sqrt(ry2) - rxi) / rxi;
-        if (apply && (s >= limit || std::isnan(s))) cut.emplace_back(i, bslot[b]);
-        else if (first || s < smin) {
-          smin = s;
-          first = false;
+        const double ry = sqrt(ry2);
+        const double s = (ry - rxi) / rxi;
+        double val = 0.0;
+        switch (criterion) {
+          case ENERGY: {
+            if (!(s > 0.0)) continue;
+            double Asum[9];
+            for (int k = 0; k < 9; k++) Asum[k] = ca[4 + k] + cb[4 + k];
+            const double omega = inverse ? delta[type[a]][type[c]] / rxi : 1.0;
+            val = NOSPD::bond_energy(omega, Asum, xi, U);
+            break;
+          }
+          case STRESS_PRINCIPAL:
+          case STRAIN_PRINCIPAL: {
+            double S[6];
+            for (int k = 0; k < 6; k++) S[k] = 0.5 * (ca[4 + k] + cb[4 + k]);
+            const double *v = (criterion == STRESS_PRINCIPAL) ? Y : xi;
+            const double r = (criterion == STRESS_PRINCIPAL) ? ry : rxi;
+            if (!(r > 0.0)) continue;
+            const double n[3] = {v[0] / r, v[1] / r, v[2] / r};
+            val = NOSPD::normal_component(S, n);
+            break;
+          }
+          case EQPS:
+          case JC_DAMAGE:
+            // a failed point loses all its bonds
+            val = std::max(ca[4], cb[4]);
+            break;
+          case STRESS_VONMISES: {
+            if (!(s > 0.0)) continue;
+            double S[6];
+            for (int k = 0; k < 6; k++) S[k] = 0.5 * (ca[4 + k] + cb[4 + k]);
+            val = NOSPD::von_mises6(S);
+            break;
+          }
         }
-        continue;
+        if (val >= limit || std::isnan(val)) cut.emplace_back(i, bslot[b]);
       }
-      const double rxi = sqrt(rxi2);
-      const double ry = sqrt(ry2);
-      const double s = (ry - rxi) / rxi;
-      double val = 0.0;
-      switch (criterion) {
-        case ENERGY: {
-          if (!(s > 0.0)) continue;
-          double Asum[9];
-          for (int k = 0; k < 9; k++) Asum[k] = ca[4 + k] + cb[4 + k];
-          const double omega = inverse ? delta[type[a]][type[c]] / rxi : 1.0;
-          val = NOSPD::bond_energy(omega, Asum, xi, U);
-          break;
-        }
-        case STRESS_PRINCIPAL:
-        case STRAIN_PRINCIPAL: {
-          double S[6];
-          for (int k = 0; k < 6; k++) S[k] = 0.5 * (ca[4 + k] + cb[4 + k]);
-          const double *v = (criterion == STRESS_PRINCIPAL) ? Y : xi;
-          const double r = (criterion == STRESS_PRINCIPAL) ? ry : rxi;
-          if (!(r > 0.0)) continue;
-          const double n[3] = {v[0] / r, v[1] / r, v[2] / r};
-          val = NOSPD::normal_component(S, n);
-          break;
-        }
-        case EQPS:
-        case JC_DAMAGE:
-          // a failed point loses all its bonds
-          val = std::max(ca[4], cb[4]);
-          break;
-        case STRESS_VONMISES: {
-          if (!(s > 0.0)) continue;
-          double S[6];
-          for (int k = 0; k < 6; k++) S[k] = 0.5 * (ca[4 + k] + cb[4 + k]);
-          val = NOSPD::von_mises6(S);
-          break;
-        }
-      }
-      if (val >= limit || std::isnan(val)) cut.emplace_back(i, bslot[b]);
+      if (track_smin) state[i][0] = smin;
     }
-    if (track_smin) state[i][0] = smin;
-  }
   });
   if (!apply) return;
   std::vector<std::pair<int, int>> cut;
@@ -759,39 +760,39 @@ void FixNospdDamage::stretch_cuts(std::vector<std::pair<int, int>> &cut)
 
   std::vector<std::vector<std::pair<int, int>>> cuts(NOSPD::range_count(nthreads, nlocal));
   NOSPD::run_ranges(cuts.size(), nlocal, [&](int from, int to, int tid) {
-  std::vector<std::pair<int, int>> &mine = cuts[tid];
-  for (int i = from; i < to; i++) {
-    const double *ci = cd + (bigint) nc * i;
-    const int fi = static_cast<int>(ci[3]);
-    if (!(fi & FLAG_INGROUP)) continue;
-    const double xi0 = x0f[3 * i], yi0 = x0f[3 * i + 1], zi0 = x0f[3 * i + 2];
-    const double uxi = ci[0], uyi = ci[1], uzi = ci[2];
-    const int bend = bfirst[i + 1];
-    for (int b = bfirst[i]; b < bend; b++) {
-      const int j = bj[b];
-      const double *cj = cd + (bigint) nc * j;
-      const int fj = static_cast<int>(cj[3]);
-      if (!(fj & FLAG_INGROUP)) continue;
-      if ((fi | fj) & FLAG_NOFAIL) continue;
-      if (detach_singular && ((fi | fj) & FLAG_SINGULAR)) {
-        mine.emplace_back(i, bslot[b]);
-        continue;
+    std::vector<std::pair<int, int>> &mine = cuts[tid];
+    for (int i = from; i < to; i++) {
+      const double *ci = cd + (bigint) nc * i;
+      const int fi = static_cast<int>(ci[3]);
+      if (!(fi & FLAG_INGROUP)) continue;
+      const double xi0 = x0f[3 * i], yi0 = x0f[3 * i + 1], zi0 = x0f[3 * i + 2];
+      const double uxi = ci[0], uyi = ci[1], uzi = ci[2];
+      const int bend = bfirst[i + 1];
+      for (int b = bfirst[i]; b < bend; b++) {
+        const int j = bj[b];
+        const double *cj = cd + (bigint) nc * j;
+        const int fj = static_cast<int>(cj[3]);
+        if (!(fj & FLAG_INGROUP)) continue;
+        if ((fi | fj) & FLAG_NOFAIL) continue;
+        if (detach_singular && ((fi | fj) & FLAG_SINGULAR)) {
+          mine.emplace_back(i, bslot[b]);
+          continue;
+        }
+        double xi[3] = {x0f[3 * j] - xi0, x0f[3 * j + 1] - yi0, x0f[3 * j + 2] - zi0};
+        if (periodic) min_image(domain, xi);
+        const double Yx = xi[0] + (cj[0] - uxi), Yy = xi[1] + (cj[1] - uyi),
+                     Yz = xi[2] + (cj[2] - uzi);
+        const double rxi2 = xi[0] * xi[0] + xi[1] * xi[1] + xi[2] * xi[2];
+        const double ry2 = Yx * Yx + Yy * Yy + Yz * Yz;
+        double limit = one_type ? limit1 : crit[type[i]][type[j]];
+        if (scatter_width > 0.0)
+          limit *= NOSPD::scatter_factor((uint64_t) scatter_seed, NOSPD::position_key(x0[i]),
+                                         NOSPD::position_key(x0[j]), scatter_width);
+        // s >= s_c  <=>  |Y|^2 >= (1 + s_c)^2 |xi|^2, without square roots
+        const double f = 1.0 + limit;
+        if (ry2 >= f * f * rxi2 || std::isnan(ry2)) mine.emplace_back(i, bslot[b]);
       }
-      double xi[3] = {x0f[3 * j] - xi0, x0f[3 * j + 1] - yi0, x0f[3 * j + 2] - zi0};
-      if (periodic) min_image(domain, xi);
-      const double Yx = xi[0] + (cj[0] - uxi), Yy = xi[1] + (cj[1] - uyi),
-                   Yz = xi[2] + (cj[2] - uzi);
-      const double rxi2 = xi[0] * xi[0] + xi[1] * xi[1] + xi[2] * xi[2];
-      const double ry2 = Yx * Yx + Yy * Yy + Yz * Yz;
-      double limit = one_type ? limit1 : crit[type[i]][type[j]];
-      if (scatter_width > 0.0)
-        limit *= NOSPD::scatter_factor((uint64_t) scatter_seed, NOSPD::position_key(x0[i]),
-                                       NOSPD::position_key(x0[j]), scatter_width);
-      // s >= s_c  <=>  |Y|^2 >= (1 + s_c)^2 |xi|^2, without square roots
-      const double f = 1.0 + limit;
-      if (ry2 >= f * f * rxi2 || std::isnan(ry2)) mine.emplace_back(i, bslot[b]);
     }
-  }
   });
   for (auto &c : cuts) cut.insert(cut.end(), c.begin(), c.end());
 }
@@ -912,53 +913,53 @@ void FixNospdDamage::contact_forces()
   };
   std::vector<Sums> sums(NOSPD::range_count(nthreads, inum));
   NOSPD::run_ranges(sums.size(), inum, [&](int from, int to, int tid) {
-  bigint &nc = sums[tid].nc;
-  double &e = sums[tid].e;
-  double *vsum = sums[tid].v;
-  for (int ii = from; ii < to; ii++) {
-    const int i = ilist[ii];
-    if (!(mask[i] & groupbit)) continue;
-    const int *jlist = firstneigh[i];
-    for (int jj = 0; jj < numneigh[i]; jj++) {
-      const int j = jlist[jj] & NEIGHMASK;
-      if (!(mask[j] & groupbit)) continue;
-      const double dx = x[j][0] - x[i][0], dy = x[j][1] - x[i][1], dz = x[j][2] - x[i][2];
-      const double rsq = dx * dx + dy * dy + dz * dz;
-      if (rsq >= rc2 || rsq == 0.0) continue;
-      double d0[3] = {x0[j][0] - x0[i][0], x0[j][1] - x0[i][1], x0[j][2] - x0[i][2]};
-      if (periodic) min_image(domain, d0);
-      const double r0 = sqrt(d0[0] * d0[0] + d0[1] * d0[1] + d0[2] * d0[2]);
-      const double dij = std::min(0.9 * r0, contact_rc);
-      const double r = sqrt(rsq);
-      if (r >= dij) continue;
-      // bonded pairs interact through their bond
-      bool bonded = false;
-      const tagint tj = tag[j];
-      for (int n = 0; n < npartner[i]; n++)
-        if (partner[i][n] == tj) {
-          bonded = true;
-          break;
+    bigint &nc = sums[tid].nc;
+    double &e = sums[tid].e;
+    double *vsum = sums[tid].v;
+    for (int ii = from; ii < to; ii++) {
+      const int i = ilist[ii];
+      if (!(mask[i] & groupbit)) continue;
+      const int *jlist = firstneigh[i];
+      for (int jj = 0; jj < numneigh[i]; jj++) {
+        const int j = jlist[jj] & NEIGHMASK;
+        if (!(mask[j] & groupbit)) continue;
+        const double dx = x[j][0] - x[i][0], dy = x[j][1] - x[i][1], dz = x[j][2] - x[i][2];
+        const double rsq = dx * dx + dy * dy + dz * dz;
+        if (rsq >= rc2 || rsq == 0.0) continue;
+        double d0[3] = {x0[j][0] - x0[i][0], x0[j][1] - x0[i][1], x0[j][2] - x0[i][2]};
+        if (periodic) min_image(domain, d0);
+        const double r0 = sqrt(d0[0] * d0[0] + d0[1] * d0[1] + d0[2] * d0[2]);
+        const double dij = std::min(0.9 * r0, contact_rc);
+        const double r = sqrt(rsq);
+        if (r >= dij) continue;
+        // bonded pairs interact through their bond
+        bool bonded = false;
+        const tagint tj = tag[j];
+        for (int n = 0; n < npartner[i]; n++)
+          if (partner[i][n] == tj) {
+            bonded = true;
+            break;
+          }
+        if (bonded) continue;
+        const int it = type[i], jt = type[j];
+        const double kv = kcontact[it][jt] * vfrac[j] / delta[it][jt];
+        const double fpair = kv * (r - dij) / r;
+        f[i][0] += fpair * dx;
+        f[i][1] += fpair * dy;
+        f[i][2] += fpair * dz;
+        e += 0.25 * kv * (r - dij) * (r - dij);
+        if (vflag_either) {
+          // 1/2 (x_i - x_j) (x) f_i, x_i - x_j = -(dx, dy, dz)
+          double v[6] = {-0.5 * fpair * dx * dx, -0.5 * fpair * dy * dy, -0.5 * fpair * dz * dz,
+                         -0.5 * fpair * dx * dy, -0.5 * fpair * dx * dz, -0.5 * fpair * dy * dz};
+          if (vflag_global)
+            for (int k = 0; k < 6; k++) vsum[k] += v[k];
+          if (vflag_atom)
+            for (int k = 0; k < 6; k++) vatom[i][k] += v[k];
         }
-      if (bonded) continue;
-      const int it = type[i], jt = type[j];
-      const double kv = kcontact[it][jt] * vfrac[j] / delta[it][jt];
-      const double fpair = kv * (r - dij) / r;
-      f[i][0] += fpair * dx;
-      f[i][1] += fpair * dy;
-      f[i][2] += fpair * dz;
-      e += 0.25 * kv * (r - dij) * (r - dij);
-      if (vflag_either) {
-        // 1/2 (x_i - x_j) (x) f_i, x_i - x_j = -(dx, dy, dz)
-        double v[6] = {-0.5 * fpair * dx * dx, -0.5 * fpair * dy * dy, -0.5 * fpair * dz * dz,
-                       -0.5 * fpair * dx * dy, -0.5 * fpair * dx * dz, -0.5 * fpair * dy * dz};
-        if (vflag_global)
-          for (int k = 0; k < 6; k++) vsum[k] += v[k];
-        if (vflag_atom)
-          for (int k = 0; k < 6; k++) vatom[i][k] += v[k];
+        nc++;
       }
-      nc++;
     }
-  }
   });
   bigint nc = 0;
   double e = 0.0;

@@ -775,6 +775,7 @@ void PairPeriNospd::constitutive_range(int from, int to, int eflag, Tally &t)
   double **hist_trial = fix_bonds->history_trial;
   NOSPD::PointEnv env;
   env.dt = update->dt;
+  const bool minimizing = (update->whichflag == 2);
 
   for (int i = from; i < to; i++) {
     const int itype = type[i];
@@ -820,6 +821,11 @@ void PairPeriNospd::constitutive_range(int from, int to, int eflag, Tally &t)
         else e += 0.5 * NOSPD::load(tmat[i]).cwiseProduct(Z).sum();
       }
       wdens[i] = e;
+      // minimize solves one load step of the plasticity: its energy is the
+      // step's incremental potential, W_e plus the dissipation of the step,
+      // whose gradient the returned stress is (nospd_plasticity.h)
+      if (minimizing && inelastic[itype] == POINT_PLASTIC)
+        e += hist_trial[i][NOSPD::Hist::WORK] - hist[i][NOSPD::Hist::WORK];
       tally_energy(i, e, t);
     }
   }

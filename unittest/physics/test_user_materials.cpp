@@ -13,6 +13,7 @@
 #include "nospd_test_util.h"
 
 #include "fix_nospd_bonds.h"
+#include "variable.h"
 #include "nospd_plasticity.h"
 #include "nospd_umat.h"
 
@@ -220,6 +221,44 @@ TEST(UserFormula, EnergyGradientAndMinimize)
     cmd(lmp, "minimize 0 1e-20 400 4000");
     EXPECT_LT(potential_energy(lmp), 1e-4 * e0) << w;
     delete lmp;
+  }
+}
+
+// NVE with a formula law: the energy error of velocity Verlet is second
+// order in the time step (forces are the energy's gradient) and small, for
+// an invariant and a stretch-based W
+double nve_energy_error(const std::string &w, double dt, int steps)
+{
+  LAMMPS *lmp = open_lammps();
+  Block b;
+  b.n = 7;
+  b.settings = "strain formula";
+  irregular_block(lmp, b, w);
+  cmd(lmp, "variable vx atom 2.0*(x-0.003)/0.006");
+  cmd(lmp, "variable vy atom -1.0*(y-0.003)/0.006");
+  cmd(lmp, "velocity all set v_vx v_vy NULL units box");
+  cmd(lmp, "fix 1 all nve");
+  cmd(lmp, "timestep " + num(dt));
+  cmd(lmp, "thermo_style custom step ke pe etotal");
+  cmd(lmp, "variable et equal etotal");
+  cmd(lmp, "run 0");
+  const double e0 = lmp->input->variable->compute_equal("v_et");
+  double emax = 0.0;
+  for (int k = 0; k < 10; k++) {
+    cmd(lmp, "run " + std::to_string(steps / 10));
+    emax = std::max(emax, std::abs(lmp->input->variable->compute_equal("v_et") - e0));
+  }
+  EXPECT_GT(potential_energy(lmp), 0.1 * e0) << "the body must be strained";
+  delete lmp;
+  return emax / e0;
+}
+
+TEST(UserFormula, NveConservesEnergy)
+{
+  for (const auto &w : {nontrivial_formulas()[0], nontrivial_formulas()[2]}) {
+    const double e1 = nve_energy_error(w, 1e-8, 400), e2 = nve_energy_error(w, 5e-9, 800);
+    EXPECT_GT(e1 / e2, 3.0) << w << ": errors " << e1 << " " << e2;
+    EXPECT_LT(e2, 1e-4) << w;
   }
 }
 
