@@ -13,7 +13,7 @@ export LAMMPS_PLUGIN_PATH=$(cd "$PLUGIN_DIR" && pwd) OMP_NUM_THREADS=1
 CSV=$OUT/throughput.csv
 echo "model,settings,ranks,threads,points,steps,best_loop_s,point_steps_per_s,ratio_to_lps,state_bytes_per_point" > "$CSV"
 # [launch:]style|pair_style keywords[|pair_coeff keywords after the horizon]
-declare -a MODELS=("pmb|" "lps|" "nospd|stabilization none" "nospd|stabilization silling 0.5"
+declare -a MODELS=("lps|" "pmb|" "nospd|stabilization none" "nospd|stabilization silling 0.5"
   "nospd|stabilization hourglass 0.2" "nospd|stabilization wan" "nospd|strain finite"
   "nospd|strain neohookean"
   "nospd|strain formula|energy 0.5*mu*(I1-3)-mu*log(J)+0.5*lambda*log(J)^2 param mu 1.538461538e10 param lambda 2.307692308e10"

@@ -11,7 +11,7 @@ export LAMMPS_PLUGIN_PATH=$(cd "${2:-$ROOT/build/plugin}" && pwd) OMP_NUM_THREAD
 REPEATS=${3:-3}
 TMP=$(mktemp -d); trap 'rm -rf "$TMP"' EXIT
 lps=""
-printf "%-12s %-32s %8s %14s %8s\n" style settings loop_s point-steps/s vs_lps
+printf "%-12s %-32s %8s %14s %8s %10s\n" style settings loop_s point-steps/s vs_lps bytes/point
 for m in "pmb|" "lps|" "nospd|stabilization none" "nospd|" "nospd|stabilization wan" \
          "nospd|strain finite" "hs|form II"; do
   style=${m%%|*}; settings=${m#*|}; best=""
@@ -22,7 +22,10 @@ for m in "pmb|" "lps|" "nospd|stabilization none" "nospd|" "nospd|stabilization 
     best=$(awk -v a="${best:-1e30}" -v b="$t" 'BEGIN{print (b<a)?b:a}')
   done
   rate=$(awk -v t="$best" 'BEGIN{printf "%.4g", 4096*200/t}')
+  # the bonds fix's logged state plus the pair's per-point work arrays (25 doubles)
+  mem=$(awk '/bond and reference state/{print $(NF-1)}' "$TMP/screen" | head -1)
+  [ -n "$mem" ] && mem=$((mem + 25 * 8))
   [ "$style" = lps ] && lps=$rate
   ratio=$(awk -v a="$rate" -v b="${lps:-0}" 'BEGIN{if (b>0) printf "%.2f", a/b}')
-  printf "%-12s %-32s %8s %14s %8s\n" "$style" "${settings:-(default)}" "$best" "$rate" "$ratio"
+  printf "%-12s %-32s %8s %14s %8s %10s\n" "$style" "${settings:-(default)}" "$best" "$rate" "$ratio" "${mem:-n/a}"
 done
