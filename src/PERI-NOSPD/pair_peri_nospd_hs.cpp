@@ -379,7 +379,10 @@ void PairPeriNospdHS::stabilization_pass(int eflag)
 {
   const bool silling = (stab == NOSPD::Stab::SILLING);
   grow_work();
-  fix_bonds->compute_deformation(eflag ? moments : nullptr);
+  double **mom = eflag ? moments : nullptr;
+  for_ranges(atom->nlocal, true, [&](int from, int to, int, Tally &) {
+    fix_bonds->compute_deformation(mom, from, to);
+  });
   const int nlocal = atom->nlocal;
   const int *type = atom->type;
   if (eflag) stab_energy.assign(nlocal, 0.0);
