@@ -167,9 +167,12 @@ inline UmatStatus umat_point(const UmatMaterial &m, const UmatPoint &pt, const M
     to_voigt(lnV1 - e0, nt, 2.0, dstran);
   }
 
-  std::vector<double> statev(std::max(1, m.nstatev), 0.0);
+  // the UMAT may write into both: per-call copies, in buffers kept per
+  // thread so that a step allocates nothing
+  thread_local std::vector<double> statev, props;
+  statev.assign(std::max(1, m.nstatev), 0.0);
   for (int k = 0; k < m.nstatev; k++) statev[k] = hn[STATEV + k];
-  std::vector<double> props(m.props);
+  props.assign(m.props.begin(), m.props.end());
   if (props.empty()) props.push_back(0.0);
   double ddsdde[36] = {}, ddsddt[6] = {}, drplde[6] = {};
   double sse = hn[SSE], spd = hn[SPD], scd = hn[SCD];
