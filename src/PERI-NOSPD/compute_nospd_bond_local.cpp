@@ -42,8 +42,10 @@ ComputeNospdBondLocal::ComputeNospdBondLocal(LAMMPS *lmp, int narg, char **arg) 
     else if (k == "F") quantities.push_back(DEFGRAD);
     else if (k == "stress") quantities.push_back(STRESS);
     else if (k == "own") quantities.push_back(OWN);
+    else if (k == "eqps") quantities.push_back(EQPS);
     else
-      error->all(FLERR, "compute {}: unknown quantity '{}' (id, stretch, F, stress, own)", style, k);
+      error->all(FLERR, "compute {}: unknown quantity '{}' (id, stretch, F, stress, own, eqps)",
+                 style, k);
   }
   if (quantities.empty()) quantities = {ID, STRETCH, DEFGRAD, STRESS};
   int n = 0;
@@ -133,21 +135,63 @@ void ComputeNospdBondLocal::compute_local()
             for (int k = 0; k < 9; k++) r[c++] = Fb[k];
             break;
           case STRESS: {
-            Mat3 F = NOSPD::load(Fb), P;
-            double W;
-            Mat3 s = Mat3::Zero();
-            if (bonds->singular[i] == 0 &&
-                NOSPD::first_piola(pair->law(), pair->plane(), pair->material(type[i]), F, P, W))
-              s = NOSPD::cauchy_stress(pair->law(), F, P);
+            Mat3 F = NOSPD::load(Fb), s = Mat3::Zero();
+            if (bonds->singular[i] == 0 && !bond_stress(i, b, own, F, s)) s.setZero();
             r[c++] = s(0, 0); r[c++] = s(1, 1); r[c++] = s(2, 2);
             r[c++] = s(0, 1); r[c++] = s(0, 2); r[c++] = s(1, 2);
             break;
           }
           case OWN: r[c++] = own; break;
+          case EQPS: {
+            const double *bs = bond_state(i, b, own);
+            if (bs) r[c++] = bs[NOSPD::BondHist::EQPS];
+            else if (pair->has_history(type[i])) r[c++] = bonds->history[i][NOSPD::Hist::EQPS];
+            else r[c++] = 0.0;
+            break;
+          }
         }
       }
     }
   }
+}
+
+/* ---------------------------------------------------------------------- */
+
+const double *ComputeNospdBondLocal::bond_state(int i, int b, int own) const
+{
+  FixNospdBonds *bonds = pair->bonds();
+  if (!pair_hs || !bonds->nhist_bond || !pair->has_history(atom->type[i])) return nullptr;
+  if (!own) return bonds->history[i] + NOSPD::FamilyHist::FALLBACK;
+  return bonds->bond_history(bonds->history[i], bonds->bond_slot[b]);
+}
+
+/* ----------------------------------------------------------------------
+   Cauchy stress of bond b of atom i at its F: the law's, or for an
+   inelastic type that of its accepted state (the bond's own under
+   peri/nospd/hs, else atom i's stress)
+------------------------------------------------------------------------- */
+
+bool ComputeNospdBondLocal::bond_stress(int i, int b, int own, Mat3 &F, Mat3 &s) const
+{
+  const int itype = atom->type[i];
+  FixNospdBonds *bonds = pair->bonds();
+  Mat3 P;
+  double W;
+  if (pair->has_history(itype) || pair->is_umat(itype)) {
+    const double *bs = bond_state(i, b, own);
+    if (!bs) {
+      F = NOSPD::load(bonds->defgrad[i]);
+      P = NOSPD::load(bonds->pk1[i]);
+    } else if (!NOSPD::accepted_bond_stress(pair->law(), pair->plane(), pair->material(itype),
+                                            pair->flow_law(itype), pair->thermal_law(itype),
+                                            pair->temperature(i), bs, F, P)) {
+      return false;
+    }
+  } else if (!NOSPD::first_piola(pair->law(), pair->plane(), pair->material(itype), F, P, W)) {
+    return false;
+  }
+  s = NOSPD::cauchy_stress(pair->law(), F, P);
+  return true;
 }
 
 /* ---------------------------------------------------------------------- */

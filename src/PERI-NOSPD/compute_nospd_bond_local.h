@@ -13,6 +13,8 @@ ComputeStyle(nospd/bond/local,ComputeNospdBondLocal);
 
 #include "compute.h"
 
+#include "nospd_tensor.h"
+
 #include <vector>
 
 namespace LAMMPS_NS {
@@ -31,7 +33,11 @@ class ComputeNospdBondLocal : public Compute {
   double memory_usage() override;
 
  private:
-  enum Quantity { ID, STRETCH, DEFGRAD, STRESS, OWN };
+  enum Quantity { ID, STRETCH, DEFGRAD, STRESS, OWN, EQPS };
+  // the bond's inelastic state: the bond-associated entry (peri/nospd/hs),
+  // else nullptr (the atom's state serves)
+  const double *bond_state(int i, int b, int own) const;
+  bool bond_stress(int i, int b, int own, NOSPD::Mat3 &F, NOSPD::Mat3 &s) const;
   std::vector<int> quantities;
   int nmax;
   double **out;

@@ -39,7 +39,7 @@ FixNospdBonds::FixNospdBonds(LAMMPS *lmp, int narg, char **arg) :
     nbonds_broken(0), nbonds_vanished(0), nmax_bonds(0), nmax_first(0), nmax_x0s(0), stale(nullptr),
     all_stale(true), trial_ready(0), x0s_store(nullptr), ref_box_set(0), own_tag(nullptr)
 {
-  nhistory = 0;
+  nhistory = nhist_atom = nhist_bond = hist_slots = 0;
   history = history_trial = nullptr;
   if (narg != 3) error->all(FLERR, "Illegal fix {} command: takes no arguments", style);
   vector_flag = 1;
@@ -145,6 +145,12 @@ void FixNospdBonds::report_families()
                    "PERI-NOSPD bond families (fix {}):\n  bonds = {}, bonds/point = {:.6g}, "
                    "singular families = {}\n  bond and reference state = {:.0f} bytes/point\n",
                    id, nbonds_total, nbonds_total / natoms, nsingular, all_bytes / natoms);
+    // accepted and trial rows
+    if (nhistory)
+      utils::logmesg(lmp, "  inelastic history = {} values/point ({} per point{}), "
+                     "{:.0f} bytes/point of the above\n", nhistory, nhist_atom,
+                     nhist_bond ? fmt::format(" and {} per partner slot", nhist_bond) : "",
+                     2.0 * sizeof(double) * nhistory);
   }
 }
 
@@ -233,6 +239,7 @@ void FixNospdBonds::restart(char *buf)
   maxpartner = static_cast<int>(list[1]);
   ref_box_set = static_cast<int>(list[2]);
   for (int k = 0; k < 3; k++) ref_prd[k] = list[3 + k];
+  if (nhist_bond) layout_history(nhist_atom, nhist_bond);
   // partner arrays are 2D: size them now, before the per-atom data arrive
   grow_arrays(atom->nmax);
 }
@@ -302,6 +309,7 @@ void FixNospdBonds::build_families()
   }
   MPI_Allreduce(&mymax, &maxpartner, 1, MPI_INT, MPI_MAX, world);
   maxpartner = std::max(maxpartner, 1);
+  if (nhist_bond) layout_history(nhist_atom, nhist_bond);    // one entry per partner slot
 
   memory->destroy(partner);
   memory->destroy(r0);
@@ -902,25 +910,89 @@ double FixNospdBonds::compute_vector(int n)
    inelastic history
 ------------------------------------------------------------------------- */
 
-void FixNospdBonds::set_history_size(int n)
+void FixNospdBonds::set_history_size(int n_atom, int n_bond)
 {
-  if (n <= nhistory) return;
-  // new columns start at zero: the virgin state
+  layout_history(MAX(n_atom, nhist_atom), MAX(n_bond, nhist_bond));
+}
+
+/* ----------------------------------------------------------------------
+   (re)lay the history rows out for n_atom values of the atom and n_bond
+   per partner slot; values kept, new columns zero: the virgin state
+------------------------------------------------------------------------- */
+
+void FixNospdBonds::layout_history(int n_atom, int n_bond)
+{
+  const int slots = n_bond ? maxpartner : 0;
+  if (n_atom == nhist_atom && n_bond == nhist_bond && slots == hist_slots) return;
+  const int n = n_atom + n_bond * slots;
   const int nmax = atom->nmax;
   double **h = nullptr, **t = nullptr;
   memory->create(h, nmax, n, "nospd/bonds:history");
   memory->create(t, nmax, n, "nospd/bonds:history_trial");
-  for (int i = 0; i < nmax; i++)
-    for (int k = 0; k < n; k++) {
-      h[i][k] = (k < nhistory) ? history[i][k] : 0.0;
-      t[i][k] = h[i][k];
-    }
+  const int keep_slots = MIN(slots, hist_slots);
+  for (int i = 0; i < nmax; i++) {
+    for (int k = 0; k < n; k++) h[i][k] = 0.0;
+    for (int k = 0; k < nhist_atom; k++) h[i][k] = history[i][k];
+    for (int s = 0; s < keep_slots; s++)
+      for (int k = 0; k < nhist_bond; k++)
+        h[i][n_atom + n_bond * s + k] = history[i][nhist_atom + nhist_bond * s + k];
+    for (int k = 0; k < n; k++) t[i][k] = h[i][k];
+  }
   memory->destroy(history);
   memory->destroy(history_trial);
   history = h;
   history_trial = t;
   nhistory = n;
-  maxexchange = maxpartner + 21 + nhistory;
+  nhist_atom = n_atom;
+  nhist_bond = n_bond;
+  hist_slots = slots;
+  maxexchange = maxpartner + 22 + nhistory;
+}
+
+/* ----------------------------------------------------------------------
+   history of atom i in transit: the atom's values, then the entries of
+   its intact partner slots in slot order (broken slots are dropped with
+   their partners, see pack_exchange)
+------------------------------------------------------------------------- */
+
+int FixNospdBonds::pack_history(int i, double *buf) const
+{
+  int m = 0;
+  for (int k = 0; k < nhist_atom; k++) buf[m++] = history[i][k];
+  if (!nhist_bond) return m;
+  for (int n = 0; n < npartner[i]; n++) {
+    if (!partner[i][n]) continue;
+    const double *b = bond_history(history[i], n);
+    for (int k = 0; k < nhist_bond; k++) buf[m++] = b[k];
+  }
+  return m;
+}
+
+/* ----------------------------------------------------------------------
+   the inverse for atom i, whose partners have arrived compacted; the
+   record holds n_atom and n_bond values (its writer's layout)
+------------------------------------------------------------------------- */
+
+int FixNospdBonds::unpack_history(int i, const double *buf, int n_atom, int n_bond)
+{
+  int m = 0;
+  double *h = history[i], *t = history_trial[i];
+  for (int k = 0; k < nhistory; k++) h[k] = 0.0;
+  for (int k = 0; k < n_atom; k++) {
+    const double v = buf[m++];
+    if (k < nhist_atom) h[k] = v;
+  }
+  if (n_bond) {
+    for (int n = 0; n < npartner[i]; n++) {
+      double *b = (n < hist_slots) ? bond_history(h, n) : nullptr;
+      for (int k = 0; k < n_bond; k++) {
+        const double v = buf[m++];
+        if (b && k < nhist_bond) b[k] = v;
+      }
+    }
+  }
+  for (int k = 0; k < nhistory; k++) t[k] = h[k];
+  return m;
 }
 
 /* ----------------------------------------------------------------------
@@ -1059,7 +1131,7 @@ int FixNospdBonds::pack_exchange(int i, double *buf)
   for (int k = 0; k < 9; k++) buf[m++] = kinv[i][k];
   for (int k = 0; k < 3; k++) buf[m++] = xi_moment[i][k];
   buf[m++] = ubuf(own_tag[i]).d;
-  for (int k = 0; k < nhistory; k++) buf[m++] = history[i][k];
+  m += pack_history(i, buf + m);
   return m;
 }
 
@@ -1078,7 +1150,7 @@ int FixNospdBonds::unpack_exchange(int nlocal, double *buf)
   for (int k = 0; k < 9; k++) kinv[nlocal][k] = buf[m++];
   for (int k = 0; k < 3; k++) xi_moment[nlocal][k] = buf[m++];
   own_tag[nlocal] = (tagint) ubuf(buf[m++]).i;
-  for (int k = 0; k < nhistory; k++) history[nlocal][k] = history_trial[nlocal][k] = buf[m++];
+  if (nhistory) m += unpack_history(nlocal, buf + m, nhist_atom, nhist_bond);
   return m;
 }
 
@@ -1095,8 +1167,15 @@ int FixNospdBonds::pack_restart(int i, double *buf)
   buf[1] = m - 2;
   buf[m++] = vinter[i];
   buf[m++] = family_size[i];
-  buf[m++] = nhistory;
-  for (int k = 0; k < nhistory; k++) buf[m++] = history[i][k];
+  // the history's layout: its size, or (with entries per partner slot)
+  // minus the atom's part and the size of a slot's entry
+  if (nhist_bond) {
+    buf[m++] = -nhist_atom;
+    buf[m++] = nhist_bond;
+  } else {
+    buf[m++] = nhistory;
+  }
+  m += pack_history(i, buf + m);
   buf[m++] = ubuf(own_tag[i]).d;
   buf[0] = m;    // first value: size of this fix's record, as Atom expects
   return m;
@@ -1119,10 +1198,13 @@ void FixNospdBonds::unpack_restart(int nlocal, int nth)
   wvolume[nlocal] = 0.0;
   singular[nlocal] = 0;
   stale[nlocal] = 1;
-  const int nh = static_cast<int>(extra[nlocal][m++]);
-  set_history_size(nh);
-  for (int k = 0; k < nhistory; k++)
-    history[nlocal][k] = history_trial[nlocal][k] = (k < nh) ? extra[nlocal][m++] : 0.0;
+  int n_atom = static_cast<int>(extra[nlocal][m++]), n_bond = 0;
+  if (n_atom < 0) {
+    n_atom = -n_atom;
+    n_bond = static_cast<int>(extra[nlocal][m++]);
+  }
+  set_history_size(n_atom, n_bond);
+  if (nhistory) m += unpack_history(nlocal, &extra[nlocal][m], n_atom, n_bond);
   // files written before IDs were tracked end here: the ID is the file's
   own_tag[nlocal] = (m < end) ? (tagint) ubuf(extra[nlocal][m++]).i : 0;
 }
@@ -1131,7 +1213,7 @@ void FixNospdBonds::unpack_restart(int nlocal, int nth)
 
 int FixNospdBonds::maxsize_restart()
 {
-  return maxpartner + 6 + nhistory;
+  return maxpartner + 7 + nhistory;
 }
 
 /* ---------------------------------------------------------------------- */
@@ -1141,5 +1223,5 @@ int FixNospdBonds::size_restart(int nlocal)
   int n = 0;
   for (int k = 0; k < npartner[nlocal]; k++)
     if (partner[nlocal][k]) n++;
-  return n + 6 + nhistory;
+  return n + 6 + (nhist_bond ? 1 : 0) + nhist_atom + n * nhist_bond;
 }

@@ -101,10 +101,19 @@ class FixNospdBonds : public FixPeriNeigh {
   // accepted one at the end of each MD step and at the end of a
   // minimization: run 0, the setup of a run and line searches never
   // accumulate plastic strain.
-  void set_history_size(int n);
+  //
+  // The horizon-stabilized style keeps history per bond-associated family
+  // too: each row is n_atom values of the atom, then n_bond values for
+  // each partner slot (maxpartner of them), which travel with their
+  // partner when broken slots are dropped (migration, restart).
+  void set_history_size(int n_atom, int n_bond = 0);
   void trial_history_ready() { trial_ready = 1; }
   void commit_history();
+  // the n_bond values of partner slot `slot` in a history row
+  double *bond_history(double *row, int slot) const { return row + nhist_atom + nhist_bond * slot; }
   int nhistory;              // values per atom, 0 if no type has history
+  int nhist_atom;            // of which the atom's own
+  int nhist_bond;            // and per partner slot
   double **history;          // [nmax][nhistory], accepted
   double **history_trial;    // [nmax][nhistory], latest force evaluation
   double history_sum(int k); // sum over atoms of history[k] (global)
@@ -141,6 +150,10 @@ class FixNospdBonds : public FixPeriNeigh {
   int *stale;               // [nmax] K^-1 to recompute
   bool all_stale;
   int trial_ready;
+  int hist_slots;    // partner slots the history rows hold (maxpartner when laid out)
+  void layout_history(int n_atom, int n_bond);
+  int pack_history(int i, double *buf) const;
+  int unpack_history(int i, const double *buf, int n_atom, int n_bond);
   double **x0s_store;    // x0s when the box is periodic (else x0s = atom->x0)
   int ref_box_set;       // ref_prd holds the box of the first build
   double ref_prd[3];     // periodic lengths of the reference configuration

@@ -570,10 +570,24 @@ struct StateOutput {
   int fallback = 0;    // bonds that used the family's F
 };
 
+/* A law whose stress depends on the bond as well as on its F: inelastic
+   materials keep history per bond-associated family (nospd_bond_history.h).
+   begin() sees the whole family's F before the bonds are evaluated;
+   stress() is called for every slot whose K_j is regular, and with slot
+   -1 for the state of the whole family that singular bond families fall
+   back to.  F arrives with F(2,2) = 1 in 2D (plane stress solves it). */
+class BondLaw {
+ public:
+  virtual ~BondLaw() = default;
+  virtual void begin(const Mat3 &F_family) = 0;
+  virtual bool stress(int slot, Mat3 &F, Mat3 &P, double &W) = 0;
+};
+
 /* What the evaluation of L families of one pattern needs per lane. */
 struct LaneInput {
   const Lame *m = nullptr;
   const LinearLaw *lin = nullptr;
+  BondLaw *bond_law = nullptr;  // if set, the stress of each bond (else law(F))
   const double *U = nullptr;    // displacement differences in slot order, 3 per slot
   double *t = nullptr;          // out: Gbar_k b_k, 3 per slot
 };
@@ -612,7 +626,7 @@ bool evaluate_families(const BondPattern &p, HSForm form, Law law, Plane plane,
   bool linear = true;
   double lam[L], mu[L];
   for (int l = 0; l < L; ++l) {
-    linear = linear && in[l].lin && in[l].lin->ok;
+    linear = linear && in[l].lin && in[l].lin->ok && !in[l].bond_law;
     lam[l] = in[l].lin ? in[l].lin->lam : 0.0;
     mu[l] = in[l].lin ? in[l].lin->mu : 0.0;
   }
@@ -638,6 +652,7 @@ bool evaluate_families(const BondPattern &p, HSForm form, Law law, Plane plane,
     block_mul<DIM>(nl, p.kinv_full, hl);
     for (int c = 0; c < NC; ++c) hfam[c][l] = hl[c];
     out[l].F = identity_plus<DIM>(hl);
+    if (in[l].bond_law) in[l].bond_law->begin(out[l].F);
   }
   bond_sums<DIM, L>(p, s, sums);
 
@@ -687,7 +702,8 @@ bool evaluate_families(const BondPattern &p, HSForm form, Law law, Plane plane,
           for (int c = 0; c < NC; ++c) hl[c] = h[c][l];
           Mat3 F = identity_plus<DIM>(hl), P;
           double W;
-          if (!first_piola(law, plane, *in[l].m, F, P, W)) {
+          if (!(in[l].bond_law ? in[l].bond_law->stress(j, F, P, W)
+                               : first_piola(law, plane, *in[l].m, F, P, W))) {
             out[l].bad = j;
             return false;
           }
@@ -719,7 +735,8 @@ bool evaluate_families(const BondPattern &p, HSForm form, Law law, Plane plane,
     for (int l = 0; l < L; ++l) {
       Mat3 F = out[l].F, P;
       double W;
-      if (!first_piola(law, plane, *in[l].m, F, P, W)) {
+      if (!(in[l].bond_law ? in[l].bond_law->stress(-1, F, P, W)
+                           : first_piola(law, plane, *in[l].m, F, P, W))) {
         out[l].bad = -1;
         return false;
       }
@@ -781,11 +798,12 @@ bool evaluate_families(const BondPattern &p, HSForm form, Law law, Plane plane,
 template <int DIM>
 bool evaluate_family(const BondPattern &p, HSForm form, Law law, Plane plane, const Lame &m,
                      const LinearLaw &lin, bool energy, const double *U, double *t,
-                     StateScratch &s, StateOutput &out)
+                     StateScratch &s, StateOutput &out, BondLaw *bond_law = nullptr)
 {
   LaneInput in;
   in.m = &m;
   in.lin = &lin;
+  in.bond_law = bond_law;
   in.U = U;
   in.t = t;
   return evaluate_families<DIM, 1>(p, form, law, plane, &in, energy, s, &out);

@@ -319,6 +319,18 @@ inline ReturnStatus point_core(Law law, const Lame &m, const FlowLaw &fl, const 
 }
 }    // namespace detail
 
+/* Equivalent deviatoric strain rate sqrt(2/3) |dev D| of the step from the
+   accepted F (hn's FPREV) to F over dt (0 if dt is 0). */
+inline double strain_rate(Law law, const Mat3 &F, const double *hn, double dt)
+{
+  if (!(dt > 0.0)) return 0.0;
+  const Mat3 dF = F - Mat3::Identity() - load(hn + Hist::FPREV);
+  const Mat3 L = (law == Law::SMALL) ? dF : Mat3(dF * F.inverse());
+  Mat3 D = 0.5 * (L + L.transpose());
+  D -= (D.trace() / 3.0) * Mat3::Identity();
+  return std::sqrt(2.0 / 3.0) * D.norm() / dt;
+}
+
 /* One material point in 3D: P and the stored energy W_e from F and the
    history of the start of the step hn; writes the history of the end of
    the step to h1 (hn is never modified, so trial evaluations repeat
@@ -337,14 +349,7 @@ inline ReturnStatus inelastic_point_3d(Law law, const Lame &m, const FlowLaw &fl
   double W_trial;
   const ReturnStatus st = detail::point_core(law, m, fl, th, env, F, hn, h1, P, W, W_trial);
   if (st != ReturnStatus::OK) return st;
-  const Mat3 dF = F - Mat3::Identity() - load(hn + Hist::FPREV);
-  h1[Hist::RATE] = 0.0;
-  if (env.dt > 0.0) {
-    const Mat3 L = (law == Law::SMALL) ? dF : Mat3(dF * F.inverse());
-    Mat3 D = 0.5 * (L + L.transpose());
-    D -= (D.trace() / 3.0) * Mat3::Identity();
-    h1[Hist::RATE] = std::sqrt(2.0 / 3.0) * D.norm() / env.dt;
-  }
+  h1[Hist::RATE] = strain_rate(law, F, hn, env.dt);
   if (fl.active && fl.kind == Hardening::JOHNSON_COOK) {
     double hp[Hist::SIZE];
     Mat3 Pp;

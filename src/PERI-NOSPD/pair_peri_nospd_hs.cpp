@@ -172,14 +172,17 @@ void PairPeriNospdHS::settings(int narg, char **arg)
 
 void PairPeriNospdHS::init_style()
 {
+  if (strain_law == NOSPD::Law::UMAT_SMALL || strain_law == NOSPD::Law::UMAT_FINITE)
+    error->all(FLERR, "pair_style {}: strain {} needs the UMAT's state variables per "
+               "bond-associated family: not available in the horizon-stabilized style yet, "
+               "use peri/nospd", force->pair_style,
+               strain_law == NOSPD::Law::UMAT_SMALL ? "umat" : "umat/finite");
   PairPeriNospd::init_style();
+  // built-in inelastic materials: a point history per family and a plastic
+  // state per bond (nospd_bond_history.h)
   for (int i = 1; i <= atom->ntypes; i++)
-    if (inelastic[i])
-      error->all(FLERR, "pair_style {}: type {} is {}, which needs history per "
-                 "bond-associated family: not available in the horizon-stabilized style yet, "
-                 "use peri/nospd", force->pair_style, i,
-                 is_umat(i) ? "a UMAT material (strain umat)"
-                            : "inelastic (yield, johnson_cook or thermal)");
+    if (has_history(i))
+      fix_bonds->set_history_size(NOSPD::FamilyHist::SIZE, NOSPD::BondHist::SIZE);
   if (!stab_on) comm_forward = 0;    // else the classical B (H) and s travel
   reported = false;
   linear_law.assign(atom->ntypes + 1, NOSPD::LinearLaw());
@@ -213,9 +216,14 @@ void PairPeriNospdHS::compute(int eflag, int vflag)
   // bond-associated pass then overwrites with its own output
   if (stab_on) stabilization_pass(eflag);
 
+  if (fix_bonds->nhistory) {
+    grow_work();
+    fill_base_temperature();
+  }
   const bool virial = vflag_either;
   if (domain->dimension == 2) virial ? force_pass<2, 1>(eflag) : force_pass<2, 0>(eflag);
   else virial ? force_pass<3, 1>(eflag) : force_pass<3, 0>(eflag);
+  if (fix_bonds->nhistory) fix_bonds->trial_history_ready();
   if (stab == NOSPD::Stab::SILLING && eflag)
     for (int i = 0; i < atom->nlocal; i++) fix_bonds->energy_density[i] += stab_energy[i];
 
@@ -245,6 +253,11 @@ void PairPeriNospdHS::gather_family(int i, const BondPattern &p, const uint16_t 
   const double Xi = x0f[3 * i], Yi = x0f[3 * i + 1], Zi = x0f[3 * i + 2];
   double *u = w.ubuf[lane].data();
   int *jl = w.jbuf[lane].data();
+  if (fix_bonds->nhist_bond) {
+    const int *bs = fix_bonds->bond_slot + fix_bonds->bond_first[i];
+    int *sl = w.sbuf[lane].data();
+    for (int s = 0; s < p.n; s++) sl[s] = bs[perm[s]];
+  }
   for (int s = 0; s < p.n; s++) {
     const int j = bj[perm[s]];
     jl[s] = j;
@@ -308,6 +321,9 @@ void PairPeriNospdHS::force_range(int from, int to, int tid, int eflag, Tally &t
   }
   NOSPD::StateOutput out[2];
   NOSPD::LaneInput in[2];
+  NOSPD::FamilyPlasticity plastic[2];
+  const int nhist = fix_bonds->nhistory;
+  const bool minimizing = (update->whichflag == 2);
   for (int q = from; q < to;) {
     const int i0 = state_order[q];
     const BondPattern &p = patterns[state_pattern[i0]];
@@ -321,11 +337,15 @@ void PairPeriNospdHS::force_range(int from, int to, int tid, int eflag, Tally &t
       in[l].lin = &linear_law[type[i]];
       in[l].U = w.ubuf[l].data();
       in[l].t = w.tbuf[l].data();
+      in[l].bond_law = nullptr;
+      if (nhist) begin_history(i, p, w, l, plastic[l], in[l]);
     }
     const bool ok = lanes == 2
         ? evaluate<DIM, 2>(p, hs_form, strain_law, plane_mode, in, eflag != 0, w.scratch, out)
         : evaluate<DIM, 1>(p, hs_form, strain_law, plane_mode, in, eflag != 0, w.scratch, out);
     for (int l = 0; l < lanes; l++) {
+      if (!ok && in[l].bond_law && plastic[l].status != NOSPD::ReturnStatus::OK)
+        family_failure(atoms[l], plastic[l], out[l].F);
       if (!ok && out[l].bad != -2) {
         const tagint partner = out[l].bad >= 0 ? atom->tag[w.jbuf[l][out[l].bad]] : 0;
         error->one(FLERR, "pair_style {}: atom {} on step {}: the finite-strain law is "
@@ -335,9 +355,62 @@ void PairPeriNospdHS::force_range(int from, int to, int tid, int eflag, Tally &t
                    fix_bonds->unstable_cause());
       }
       apply_family<VIRIAL>(atoms[l], p, w, l, fg, vg, out[l], eflag, t);
+      if (in[l].bond_law && !p.atom_singular) {
+        plastic[l].finish();
+        // minimize solves one load step: its energy is the incremental
+        // potential, as in the classical style
+        const int i = atoms[l];
+        if (eflag && minimizing)
+          tally_energy(i, fix_bonds->history_trial[i][NOSPD::Hist::WORK] -
+                       fix_bonds->history[i][NOSPD::Hist::WORK], t);
+      }
     }
     q += lanes;
   }
+}
+
+/* ----------------------------------------------------------------------
+   Start owned atom i's history: its trial row is the accepted one until
+   its bonds are evaluated (a family without history, or without a regular
+   shape tensor, keeps it), and an inelastic family gets its law.
+------------------------------------------------------------------------- */
+
+void PairPeriNospdHS::begin_history(int i, const BondPattern &p, FamilyWork &w, int lane,
+                                    NOSPD::FamilyPlasticity &law, NOSPD::LaneInput &in)
+{
+  const double *hn = fix_bonds->history[i];
+  double *h1 = fix_bonds->history_trial[i];
+  std::copy(hn, hn + fix_bonds->nhistory, h1);
+  const int itype = atom->type[i];
+  if (!has_history(itype) || !fix_bonds->nhist_bond) return;
+  law.law = strain_law;
+  law.plane = plane_mode;
+  law.m = &lame[itype];
+  law.fl = &flow[itype];
+  law.th = &thermal[itype];
+  law.env.dt = update->dt;
+  law.env.T_base = temperature_base[i];
+  law.env.rho = atom->rmass[i];
+  law.pattern = &p;
+  law.hn = hn;
+  law.h1 = h1;
+  law.slot_of = w.sbuf[lane].data();
+  law.bond_offset = fix_bonds->nhist_atom;
+  law.bond_stride = fix_bonds->nhist_bond;
+  in.bond_law = &law;
+}
+
+/* ---------------------------------------------------------------------- */
+
+void PairPeriNospdHS::family_failure(int i, const NOSPD::FamilyPlasticity &law,
+                                     const Mat3 &F) const
+{
+  if (law.status == NOSPD::ReturnStatus::BAD_DEFORMATION)
+    error->one(FLERR, "pair_style {}: atom {} on step {}: the finite-strain law is undefined "
+               "(det F <= 0) in its family (det F of the whole family {:.6g}){}",
+               force->pair_style, atom->tag[i], update->ntimestep, F.determinant(),
+               fix_bonds->unstable_cause());
+  inelastic_failure(i, law.status, F);
 }
 
 /* ----------------------------------------------------------------------
@@ -356,6 +429,7 @@ void PairPeriNospdHS::prepare_work(int nthreads, int nall)
         w.ubuf[l].assign(3 * nbig, 0.0);
         w.tbuf[l].assign(3 * nbig, 0.0);
         w.jbuf[l].assign(nbig, 0);
+        w.sbuf[l].assign(nbig, 0);
       }
     if (tid == 0) continue;
     if ((int) w.fg.size() < 3 * nall) w.fg.resize(3 * nall);

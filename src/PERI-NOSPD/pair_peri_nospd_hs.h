@@ -14,6 +14,7 @@ PairStyle(peri/nospd/hs,PairPeriNospdHS);
 #include "pair_peri_nospd.h"
 
 #include "nospd_bond_associated.h"
+#include "nospd_bond_history.h"
 
 #include <cstdint>
 #include <unordered_map>
@@ -90,6 +91,7 @@ class PairPeriNospdHS : public PairPeriNospd {
     NOSPD::StateScratch scratch;
     std::vector<double> ubuf[2], tbuf[2];    // per lane: U and t of a family
     std::vector<int> jbuf[2];                // per lane: partners' local indices
+    std::vector<int> sbuf[2];                // per lane: partner slots (bond history)
     std::vector<double> fg, vg;              // threads > 0: scattered forces, virial
     bool used = false;
   };
@@ -109,6 +111,10 @@ class PairPeriNospdHS : public PairPeriNospd {
                     double *vg, const NOSPD::StateOutput &out, int eflag, Tally &t);
   void gather_family(int i, const NOSPD::BondPattern &p, const uint16_t *perm, FamilyWork &w,
                      int lane);
+  // inelastic families: their law with history per bond-associated family
+  void begin_history(int i, const NOSPD::BondPattern &p, FamilyWork &w, int lane,
+                     NOSPD::FamilyPlasticity &law, NOSPD::LaneInput &in);
+  void family_failure(int i, const NOSPD::FamilyPlasticity &law, const NOSPD::Mat3 &F) const;
 
   // optional stabilization (silling, hourglass) on top of the
   // bond-associated forces

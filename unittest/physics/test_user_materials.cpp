@@ -475,7 +475,7 @@ TEST(UserUmat, BadInput)
   EXPECT_THAT(error_of_deck("strain umat", ""), HasSubstr("strain umat needs a library for type 1"));
   EXPECT_THAT(error_of_deck("strain umat form II", "umat " + umat_lib("umat_elastic.so") + " props 2 200e9 0.3",
                             "peri/nospd/hs"),
-              HasSubstr("a UMAT material (strain umat)"));
+              HasSubstr("strain umat needs the UMAT's state variables per bond-associated family"));
   EXPECT_THAT(error_of_deck("strain umat plane stress",
                             "umat " + umat_lib("umat_elastic.so") + " props 2 200e9 0.3",
                             "peri/nospd", 2),

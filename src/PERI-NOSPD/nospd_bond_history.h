@@ -1,0 +1,213 @@
+/* -*- c++ -*- ----------------------------------------------------------
+   PERI-NOSPD: correspondence peridynamics for LAMMPS.
+   Inelastic history per bond-associated family (horizon-stabilized style).
+   Knows nothing of LAMMPS.
+
+   In the bond-associated model every bond j of a family has its own
+   deformation gradient F_j, so an inelastic material has a plastic state
+   per bond: the return mapping of nospd_plasticity.h runs on each F_j
+   from that bond's history.  Per bond only what the return cannot rebuild
+   is kept (BondHist: the plastic strain and the equivalent plastic strain,
+   7 values; the Prager back stress is (2/3) H_kin eps_p and is rebuilt).
+   The family keeps a point history in the classical layout (Hist) whose
+   entries are the beta-weighted sums over its bonds, the beta_j of the
+   energy E = sum_i V_i sum_j beta_j W(F_j):
+     - WORK, HEAT, DAMAGE accumulate beta_j times each bond's increment:
+       the family's plastic work, adiabatic temperature rise and
+       Johnson-Cook damage;
+     - EQPS, PLASTIC, BACK and YIELDING are the means of the bonds' states
+       (output and the damage criteria);
+     - the equivalent strain rate, the accepted F (FPREV) and the
+       temperature of the accepted step come from the whole family's F.
+   All bonds of a family share its temperature and strain rate, as they
+   share its material point.
+
+   The flow stress of a step uses the rate and temperature of the step
+   before (as in the classical style).  RATE_USED and HEAT_USED keep the
+   values the accepted step itself used: when a force evaluation finds the
+   family at its accepted configuration (the setup of a run that follows
+   another, or a restart) it returns the accepted stresses by evaluating
+   the bonds with them and leaves the history as it was.  Unlike the
+   classical style, the energy that a Johnson-Cook surface moving between
+   steps releases is not added to the plastic work (it would need each
+   bond's accepted F): with rate and thermal softening the energy balance
+   holds to the order of that change.
+------------------------------------------------------------------------- */
+
+#ifndef NOSPD_BOND_HISTORY_H
+#define NOSPD_BOND_HISTORY_H
+
+#include "nospd_bond_associated.h"
+#include "nospd_plasticity.h"
+
+namespace NOSPD {
+
+// one bond's history
+namespace BondHist {
+  constexpr int PLASTIC = 0;    // 6: as Hist::PLASTIC
+  constexpr int EQPS = 6;       // equivalent plastic strain
+  constexpr int SIZE = 7;
+}    // namespace BondHist
+
+// the family's own history: Hist, then these
+namespace FamilyHist {
+  constexpr int RATE_USED = Hist::SIZE;        // the rate the accepted step used
+  constexpr int HEAT_USED = Hist::SIZE + 1;    // the heating the accepted step started from
+  constexpr int FALLBACK = Hist::SIZE + 2;     // BondHist of the whole family's F
+  constexpr int SIZE = FALLBACK + BondHist::SIZE;
+}    // namespace FamilyHist
+
+/* The built-in J2/Johnson-Cook/thermal material on one bond-associated
+   family.  Set up per family: the material, the family's accepted row hn
+   and trial row h1 (FamilyHist, then per partner slot a BondHist entry at
+   bond(row, partner slot)), the pattern (for beta) and the partner slot of
+   each pattern slot.  evaluate_families() then calls begin() and stress();
+   finish() completes the family's trial row. */
+class FamilyPlasticity : public BondLaw {
+ public:
+  Law law = Law::SMALL;    // SMALL or HENCKY
+  Plane plane = Plane::NONE;
+  const Lame *m = nullptr;
+  const FlowLaw *fl = nullptr;
+  const ThermalLaw *th = nullptr;
+  PointEnv env;
+  const BondPattern *pattern = nullptr;
+  const double *hn = nullptr;    // accepted row
+  double *h1 = nullptr;          // trial row (a copy of hn when the family starts)
+  const int *slot_of = nullptr;  // pattern slot -> partner slot
+  int bond_offset = FamilyHist::SIZE, bond_stride = BondHist::SIZE;
+  ReturnStatus status = ReturnStatus::OK;
+
+  void begin(const Mat3 &F_family) override
+  {
+    status = ReturnStatus::OK;
+    Ffam = F_family;
+    replay = false;
+    if (hn[Hist::VALID] > 0.0 && hn[Hist::TACC] == env.T_base) {
+      Mat3 d = F_family - Mat3::Identity() - load(hn + Hist::FPREV);
+      if (plane != Plane::NONE) d(2, 2) = 0.0;
+      replay = d.cwiseAbs().maxCoeff() <= 1.0e-12;
+    }
+    for (double &v : sum) v = 0.0;
+    for (double &v : plastic) v = 0.0;
+  }
+
+  bool stress(int slot, Mat3 &F, Mat3 &P, double &W) override
+  {
+    const double *bn = slot < 0 ? hn + FamilyHist::FALLBACK : bond_entry(hn, slot);
+    double *b1 = slot < 0 ? h1 + FamilyHist::FALLBACK : bond_entry(h1, slot);
+    double pn[Hist::SIZE] = {}, p1[Hist::SIZE];
+    for (int k = 0; k < 6; ++k) pn[Hist::PLASTIC + k] = bn[BondHist::PLASTIC + k];
+    pn[Hist::EQPS] = bn[BondHist::EQPS];
+    if (fl->Hkin > 0.0)
+      for (int k = 0; k < 6; ++k) pn[Hist::BACK + k] = (2.0 / 3.0) * fl->Hkin * pn[Hist::PLASTIC + k];
+    pn[Hist::RATE] = replay ? hn[FamilyHist::RATE_USED] : hn[Hist::RATE];
+    pn[Hist::HEAT] = replay ? hn[FamilyHist::HEAT_USED] : hn[Hist::HEAT];
+
+    double Wt;
+    ReturnStatus st = ReturnStatus::OK;
+    if (plane != Plane::STRESS) {
+      st = detail::point_core(law, *m, *fl, *th, env, F, pn, p1, P, W, Wt);
+    } else {
+      auto eval = [&](const Mat3 &Ft, Mat3 &Pt, double &Wtt) {
+        st = detail::point_core(law, *m, *fl, *th, env, Ft, pn, p1, Pt, Wtt, Wt);
+        return st == ReturnStatus::OK;
+      };
+      if (!solve_plane_stress(*m, F, P, W, eval) && st == ReturnStatus::OK)
+        st = ReturnStatus::NO_CONVERGENCE;
+    }
+    if (st != ReturnStatus::OK) {
+      status = st;
+      return false;
+    }
+    if (replay) return true;    // the accepted state: history unchanged
+
+    for (int k = 0; k < 6; ++k) b1[BondHist::PLASTIC + k] = p1[Hist::PLASTIC + k];
+    b1[BondHist::EQPS] = p1[Hist::EQPS];
+    const double beta = slot < 0 ? fallback_beta() : pattern->beta[slot];
+    sum[S_WORK] += beta * p1[Hist::WORK];    // pn[WORK] = 0: the bond's increment
+    sum[S_HEAT] += beta * (p1[Hist::HEAT] - pn[Hist::HEAT]);
+    sum[S_DAMAGE] += beta * p1[Hist::DAMAGE];
+    sum[S_YIELD] += beta * p1[Hist::YIELDING];
+    sum[S_EQPS] += beta * p1[Hist::EQPS];
+    for (int k = 0; k < 6; ++k) plastic[k] += beta * p1[Hist::PLASTIC + k];
+    return true;
+  }
+
+  // the family's trial row after its bonds (not called for a family
+  // without a regular shape tensor: its row stays the accepted one)
+  void finish()
+  {
+    if (replay) return;
+    h1[FamilyHist::RATE_USED] = hn[Hist::RATE];
+    h1[FamilyHist::HEAT_USED] = hn[Hist::HEAT];
+    h1[Hist::WORK] = hn[Hist::WORK] + sum[S_WORK];
+    h1[Hist::HEAT] = hn[Hist::HEAT] + sum[S_HEAT];
+    h1[Hist::DAMAGE] = hn[Hist::DAMAGE] + sum[S_DAMAGE];
+    h1[Hist::YIELDING] = sum[S_YIELD];
+    h1[Hist::EQPS] = sum[S_EQPS];
+    for (int k = 0; k < 6; ++k) {
+      h1[Hist::PLASTIC + k] = plastic[k];
+      h1[Hist::BACK + k] = (2.0 / 3.0) * fl->Hkin * plastic[k];
+    }
+    // the family's strain rate over the step, as the classical point's
+    h1[Hist::RATE] = strain_rate(law, Ffam, hn, env.dt);
+    store(Ffam - Mat3::Identity(), h1 + Hist::FPREV);
+    h1[Hist::TACC] = env.T_base;
+    h1[Hist::VALID] = 1.0;
+  }
+
+  bool replaying() const { return replay; }
+
+ private:
+  enum { S_WORK, S_HEAT, S_DAMAGE, S_YIELD, S_EQPS, S_N };
+  double sum[S_N] = {};
+  double plastic[6] = {};
+  Mat3 Ffam = Mat3::Identity();
+  bool replay = false;
+
+  const double *bond_entry(const double *row, int slot) const
+  {
+    return row + bond_offset + bond_stride * slot_of[slot];
+  }
+  double *bond_entry(double *row, int slot) const
+  {
+    return row + bond_offset + bond_stride * slot_of[slot];
+  }
+  // the weight of the whole family's state: that of the singular bonds
+  double fallback_beta() const
+  {
+    double b = 0.0;
+    for (int j = 0; j < pattern->n; ++j)
+      if (pattern->singular[j]) b += pattern->beta[j];
+    return b;
+  }
+};
+
+/* The stress of one bond (or of the whole family's F, for the fallback
+   entry) at F from its accepted state, elastic from that state (no
+   return): at the accepted configuration this is the accepted stress.
+   T is the point's temperature.  For output. */
+inline bool accepted_bond_stress(Law law, Plane plane, const Lame &m, const FlowLaw &fl,
+                                 const ThermalLaw &th, double T, const double *bond, Mat3 &F,
+                                 Mat3 &P)
+{
+  FlowLaw elastic = fl;
+  elastic.active = false;
+  PointEnv env;
+  env.T_base = T;
+  double pn[Hist::SIZE] = {}, p1[Hist::SIZE];
+  for (int k = 0; k < 6; ++k) pn[Hist::PLASTIC + k] = bond[BondHist::PLASTIC + k];
+  pn[Hist::EQPS] = bond[BondHist::EQPS];
+  double W, Wt;
+  if (plane != Plane::STRESS)
+    return detail::point_core(law, m, elastic, th, env, F, pn, p1, P, W, Wt) == ReturnStatus::OK;
+  return solve_plane_stress(m, F, P, W, [&](const Mat3 &Ft, Mat3 &Pt, double &Wtt) {
+    return detail::point_core(law, m, elastic, th, env, Ft, pn, p1, Pt, Wtt, Wt) ==
+        ReturnStatus::OK;
+  });
+}
+
+}    // namespace NOSPD
+
+#endif
