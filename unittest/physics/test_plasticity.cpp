@@ -347,6 +347,28 @@ TEST_P(Inelastic, MinimizeIsOneLoadStep)
   EXPECT_GT(amax, 1e-3);
 }
 
+// During minimize the energy of a yielding point is the step's incremental
+// potential W_e + dD, whose gradient the returned stress is (kernel tests
+// StressIsIncrementalPotentialGradient, FormIIIsIncrementalPotentialGradient);
+// outside it is W_e.  At the start of a minimization the energy therefore
+// exceeds that of a run 0 at the same positions by the step's plastic work.
+TEST_P(Inelastic, MinimizeEnergyIsIncrementalPotential)
+{
+  block("strain small", "yield 1e8 hardening linear 2e9", 8, true);
+  cmd(lmp, "run 0");
+  cmd(lmp, "change_box all x scale 1.003 y scale 0.9995 remap units box");
+  cmd(lmp, "run 0");
+  const double pe = potential_energy(lmp);
+  auto *fb = static_cast<LAMMPS_NS::FixNospdBonds *>(lmp->modify->get_fix_by_id("NOSPD_BONDS"));
+  double work = 0.0;
+  for (int i = 0; i < lmp->atom->nlocal; i++)
+    work += fb->history_trial[i][NOSPD::Hist::WORK] - fb->history[i][NOSPD::Hist::WORK];
+  ASSERT_GT(work, 1e-3 * pe);
+  cmd(lmp, "min_modify dmax 1e-6");
+  cmd(lmp, "minimize 0.0 0.0 0 0");
+  EXPECT_NEAR(lmp->update->minimize->einitial, pe + work, 1e-10 * (pe + work));
+}
+
 // fix nospd/damage eqps: points past the critical plastic strain lose their
 // bonds; with the critical value above the reached strain nothing breaks.
 TEST_P(Inelastic, DamageOnEquivalentPlasticStrain)
