@@ -39,6 +39,7 @@
 
 #include "nospd_bond_associated.h"
 #include "nospd_plasticity.h"
+#include "nospd_umat.h"
 
 namespace NOSPD {
 
@@ -182,6 +183,67 @@ class FamilyPlasticity : public BondLaw {
       if (pattern->singular[j]) b += pattern->beta[j];
     return b;
   }
+};
+
+/* A UMAT on one bond-associated family: every bond is an integration
+   point of its own (NPT = 2 + its slot in the pattern, 1 for the whole
+   family's F), with a UmatHist entry per partner slot.  The family's row
+   holds a UmatHist entry of beta-weighted sums (SSE, SPD, SCD, WORK: of the
+   bonds' increments) and means (STRESS, STATEV), and from `fallback` on the
+   entry of the whole family's F.  As for one point, the UMAT is called
+   with the increment from the accepted state, also at the accepted
+   configuration (a zero increment). */
+class FamilyUmat : public BondLaw {
+ public:
+  const UmatMaterial *mat = nullptr;
+  UmatPoint pt;
+  const BondPattern *pattern = nullptr;
+  const double *hn = nullptr;
+  double *h1 = nullptr;
+  const int *slot_of = nullptr;
+  int bond_offset = 0, bond_stride = 0, fallback = 0;
+  UmatStatus status = UmatStatus::OK;
+
+  void begin(const Mat3 &F_family) override
+  {
+    status = UmatStatus::OK;
+    Ffam = F_family;
+    acc.assign(UmatHist::size(mat->nstatev), 0.0);
+  }
+
+  bool stress(int slot, Mat3 &F, Mat3 &P, double &W) override
+  {
+    const int off = slot < 0 ? fallback : bond_offset + bond_stride * slot_of[slot];
+    UmatPoint p = pt;
+    p.npt = slot < 0 ? 1 : slot + 2;
+    status = umat_point(*mat, p, F, hn + off, h1 + off, P, W);
+    if (status != UmatStatus::OK) return false;
+    double beta = 0.0;
+    if (slot >= 0) {
+      beta = pattern->beta[slot];
+    } else {
+      for (int j = 0; j < pattern->n; ++j)
+        if (pattern->singular[j]) beta += pattern->beta[j];
+    }
+    const double *b0 = hn + off, *b1 = h1 + off;
+    for (int k : {UmatHist::SSE, UmatHist::SPD, UmatHist::SCD, UmatHist::WORK})
+      acc[k] += beta * (b1[k] - b0[k]);
+    for (int k = UmatHist::STRESS; k < UmatHist::size(mat->nstatev); ++k) acc[k] += beta * b1[k];
+    return true;
+  }
+
+  // the family's row after its bonds
+  void finish()
+  {
+    for (int k : {UmatHist::SSE, UmatHist::SPD, UmatHist::SCD, UmatHist::WORK})
+      h1[k] = hn[k] + acc[k];
+    for (int k = UmatHist::STRESS; k < UmatHist::size(mat->nstatev); ++k) h1[k] = acc[k];
+    store(Ffam - Mat3::Identity(), h1 + UmatHist::FPREV);
+  }
+
+ private:
+  Mat3 Ffam = Mat3::Identity();
+  std::vector<double> acc;
 };
 
 /* The stress of one bond (or of the whole family's F, for the fallback

@@ -90,6 +90,7 @@ struct UmatPoint {
   double coords[3] = {0.0, 0.0, 0.0};
   double celent = 0.0;
   int noel = 0, kinc = 0;
+  int npt = 1;    // integration point: 1, or 2 + the bond's slot (bond-associated families)
 };
 
 enum class UmatStatus { OK, UNDEFINED, NONFINITE, ABORT };
@@ -186,7 +187,7 @@ inline UmatStatus umat_point(const UmatMaterial &m, const UmatPoint &pt, const M
   std::memcpy(cmname, m.cmname, sizeof(cmname));
   int ndi = 3, nshr = nt - 3, ntens = nt, nstatv = m.nstatev;
   int nprops = static_cast<int>(m.props.size());
-  int noel = pt.noel, npt = 1, layer = 1, kspt = 1, kstep = 1, kinc = pt.kinc;
+  int noel = pt.noel, npt = pt.npt, layer = 1, kspt = 1, kstep = 1, kinc = pt.kinc;
 
   umat_report().abort = false;
   m.fn(stress, statev.data(), ddsdde, &sse, &spd, &scd, &rpl, ddsddt, drplde, &drpldt, stran,

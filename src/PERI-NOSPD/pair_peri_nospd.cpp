@@ -880,6 +880,18 @@ void PairPeriNospd::law_failure(int i, const Mat3 &F) const
 void PairPeriNospd::umat_point(int i, const Mat3 &F, Mat3 &P, double &W)
 {
   const int itype = atom->type[i];
+  const NOSPD::UmatPoint pt = umat_env(i);
+  const auto st = NOSPD::umat_point(user_materials->umat(itype), pt, F, fix_bonds->history[i],
+                                    fix_bonds->history_trial[i], P, W);
+  if (st != NOSPD::UmatStatus::OK) umat_failure(i, st, F);
+}
+
+/* ----------------------------------------------------------------------
+   what a UMAT's material point at owned atom i needs besides F
+------------------------------------------------------------------------- */
+
+NOSPD::UmatPoint PairPeriNospd::umat_env(int i) const
+{
   NOSPD::UmatPoint pt;
   pt.dt = update->dt;
   pt.time = update->atime + (update->ntimestep - update->atimestep) * update->dt;
@@ -888,9 +900,14 @@ void PairPeriNospd::umat_point(int i, const Mat3 &F, Mat3 &P, double &W)
   pt.celent = (domain->dimension == 3) ? cbrt(atom->vfrac[i]) : sqrt(atom->vfrac[i] / thickness);
   pt.noel = static_cast<int>(atom->tag[i]);
   pt.kinc = static_cast<int>(update->ntimestep);
-  const auto st = NOSPD::umat_point(user_materials->umat(itype), pt, F, fix_bonds->history[i],
-                                    fix_bonds->history_trial[i], P, W);
-  if (st == NOSPD::UmatStatus::OK) return;
+  return pt;
+}
+
+/* ---------------------------------------------------------------------- */
+
+void PairPeriNospd::umat_failure(int i, NOSPD::UmatStatus st, const Mat3 &F) const
+{
+  const int itype = atom->type[i];
   const std::string lib = user_materials->library(itype);
   if (st == NOSPD::UmatStatus::ABORT)
     error->one(FLERR, "pair_style {}: the UMAT of type {} ({}) stopped at atom {} on step {}: {}",

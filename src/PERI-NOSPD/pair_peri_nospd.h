@@ -177,6 +177,8 @@ class PairPeriNospd : public Pair {
                        const std::string &where) const;
   void point_stress(int i, NOSPD::Mat3 &F, NOSPD::Mat3 &P, double &W, const NOSPD::PointEnv &env);
   void umat_point(int i, const NOSPD::Mat3 &F, NOSPD::Mat3 &P, double &W);
+  NOSPD::UmatPoint umat_env(int i) const;
+  void umat_failure(int i, NOSPD::UmatStatus st, const NOSPD::Mat3 &F) const;
   void check_inelastic(int itype) const;
   void fill_base_temperature();
   void inelastic_failure(int i, NOSPD::ReturnStatus st, const NOSPD::Mat3 &F) const;

@@ -172,17 +172,16 @@ void PairPeriNospdHS::settings(int narg, char **arg)
 
 void PairPeriNospdHS::init_style()
 {
-  if (strain_law == NOSPD::Law::UMAT_SMALL || strain_law == NOSPD::Law::UMAT_FINITE)
-    error->all(FLERR, "pair_style {}: strain {} needs the UMAT's state variables per "
-               "bond-associated family: not available in the horizon-stabilized style yet, "
-               "use peri/nospd", force->pair_style,
-               strain_law == NOSPD::Law::UMAT_SMALL ? "umat" : "umat/finite");
   PairPeriNospd::init_style();
-  // built-in inelastic materials: a point history per family and a plastic
-  // state per bond (nospd_bond_history.h)
-  for (int i = 1; i <= atom->ntypes; i++)
+  // inelastic materials: a point history per family and a state per bond
+  // (nospd_bond_history.h); a UMAT's family row is a UmatHist entry of
+  // sums and means, then that of the whole family's F
+  const int umat_size = user_materials->history_size();
+  for (int i = 1; i <= atom->ntypes; i++) {
     if (has_history(i))
       fix_bonds->set_history_size(NOSPD::FamilyHist::SIZE, NOSPD::BondHist::SIZE);
+    if (is_umat(i)) fix_bonds->set_history_size(2 * umat_size, umat_size);
+  }
   if (!stab_on) comm_forward = 0;    // else the classical B (H) and s travel
   reported = false;
   linear_law.assign(atom->ntypes + 1, NOSPD::LinearLaw());
@@ -321,7 +320,7 @@ void PairPeriNospdHS::force_range(int from, int to, int tid, int eflag, Tally &t
   }
   NOSPD::StateOutput out[2];
   NOSPD::LaneInput in[2];
-  NOSPD::FamilyPlasticity plastic[2];
+  LaneLaws laws[2];
   const int nhist = fix_bonds->nhistory;
   const bool minimizing = (update->whichflag == 2);
   for (int q = from; q < to;) {
@@ -337,15 +336,15 @@ void PairPeriNospdHS::force_range(int from, int to, int tid, int eflag, Tally &t
       in[l].lin = &linear_law[type[i]];
       in[l].U = w.ubuf[l].data();
       in[l].t = w.tbuf[l].data();
-      in[l].bond_law = nullptr;
-      if (nhist) begin_history(i, p, w, l, plastic[l], in[l]);
+      laws[l].active = nullptr;
+      if (nhist) begin_history(i, p, w, l, laws[l]);
+      in[l].bond_law = laws[l].active;
     }
     const bool ok = lanes == 2
         ? evaluate<DIM, 2>(p, hs_form, strain_law, plane_mode, in, eflag != 0, w.scratch, out)
         : evaluate<DIM, 1>(p, hs_form, strain_law, plane_mode, in, eflag != 0, w.scratch, out);
     for (int l = 0; l < lanes; l++) {
-      if (!ok && in[l].bond_law && plastic[l].status != NOSPD::ReturnStatus::OK)
-        family_failure(atoms[l], plastic[l], out[l].F);
+      if (!ok && laws[l].active) family_failure(atoms[l], laws[l], out[l].F);
       if (!ok && out[l].bad != -2) {
         const tagint partner = out[l].bad >= 0 ? atom->tag[w.jbuf[l][out[l].bad]] : 0;
         error->one(FLERR, "pair_style {}: atom {} on step {}: the finite-strain law is "
@@ -355,15 +354,7 @@ void PairPeriNospdHS::force_range(int from, int to, int tid, int eflag, Tally &t
                    fix_bonds->unstable_cause());
       }
       apply_family<VIRIAL>(atoms[l], p, w, l, fg, vg, out[l], eflag, t);
-      if (in[l].bond_law && !p.atom_singular) {
-        plastic[l].finish();
-        // minimize solves one load step: its energy is the incremental
-        // potential, as in the classical style
-        const int i = atoms[l];
-        if (eflag && minimizing)
-          tally_energy(i, fix_bonds->history_trial[i][NOSPD::Hist::WORK] -
-                       fix_bonds->history[i][NOSPD::Hist::WORK], t);
-      }
+      if (laws[l].active && !p.atom_singular) finish_history(atoms[l], laws[l], eflag, minimizing, t);
     }
     q += lanes;
   }
@@ -376,41 +367,79 @@ void PairPeriNospdHS::force_range(int from, int to, int tid, int eflag, Tally &t
 ------------------------------------------------------------------------- */
 
 void PairPeriNospdHS::begin_history(int i, const BondPattern &p, FamilyWork &w, int lane,
-                                    NOSPD::FamilyPlasticity &law, NOSPD::LaneInput &in)
+                                    LaneLaws &laws)
 {
   const double *hn = fix_bonds->history[i];
   double *h1 = fix_bonds->history_trial[i];
   std::copy(hn, hn + fix_bonds->nhistory, h1);
   const int itype = atom->type[i];
-  if (!has_history(itype) || !fix_bonds->nhist_bond) return;
-  law.law = strain_law;
-  law.plane = plane_mode;
-  law.m = &lame[itype];
-  law.fl = &flow[itype];
-  law.th = &thermal[itype];
-  law.env.dt = update->dt;
-  law.env.T_base = temperature_base[i];
-  law.env.rho = atom->rmass[i];
-  law.pattern = &p;
-  law.hn = hn;
-  law.h1 = h1;
-  law.slot_of = w.sbuf[lane].data();
-  law.bond_offset = fix_bonds->nhist_atom;
-  law.bond_stride = fix_bonds->nhist_bond;
-  in.bond_law = &law;
+  if (!fix_bonds->nhist_bond) return;
+  if (has_history(itype)) {
+    NOSPD::FamilyPlasticity &law = laws.plastic;
+    law.law = strain_law;
+    law.plane = plane_mode;
+    law.m = &lame[itype];
+    law.fl = &flow[itype];
+    law.th = &thermal[itype];
+    law.env.dt = update->dt;
+    law.env.T_base = temperature_base[i];
+    law.env.rho = atom->rmass[i];
+    law.pattern = &p;
+    law.hn = hn;
+    law.h1 = h1;
+    law.slot_of = w.sbuf[lane].data();
+    law.bond_offset = fix_bonds->nhist_atom;
+    law.bond_stride = fix_bonds->nhist_bond;
+    laws.active = &law;
+  } else if (is_umat(itype)) {
+    NOSPD::FamilyUmat &law = laws.umat;
+    law.mat = &user_materials->umat(itype);
+    law.pt = umat_env(i);
+    law.pattern = &p;
+    law.hn = hn;
+    law.h1 = h1;
+    law.slot_of = w.sbuf[lane].data();
+    law.bond_offset = fix_bonds->nhist_atom;
+    law.bond_stride = fix_bonds->nhist_bond;
+    law.fallback = user_materials->history_size();
+    laws.active = &law;
+  }
+}
+
+/* ----------------------------------------------------------------------
+   the family row of owned atom i after its bonds; during minimize the
+   energy of a plastic point is the step's incremental potential, as in
+   the classical style
+------------------------------------------------------------------------- */
+
+void PairPeriNospdHS::finish_history(int i, LaneLaws &laws, int eflag, bool minimizing, Tally &t)
+{
+  if (laws.active == &laws.umat) {
+    laws.umat.finish();
+    return;
+  }
+  laws.plastic.finish();
+  if (eflag && minimizing)
+    tally_energy(i, fix_bonds->history_trial[i][NOSPD::Hist::WORK] -
+                 fix_bonds->history[i][NOSPD::Hist::WORK], t);
 }
 
 /* ---------------------------------------------------------------------- */
 
-void PairPeriNospdHS::family_failure(int i, const NOSPD::FamilyPlasticity &law,
-                                     const Mat3 &F) const
+void PairPeriNospdHS::family_failure(int i, const LaneLaws &laws, const Mat3 &F) const
 {
-  if (law.status == NOSPD::ReturnStatus::BAD_DEFORMATION)
+  if (laws.active == &laws.umat) {
+    if (laws.umat.status != NOSPD::UmatStatus::OK) umat_failure(i, laws.umat.status, F);
+    return;
+  }
+  const NOSPD::ReturnStatus st = laws.plastic.status;
+  if (st == NOSPD::ReturnStatus::OK) return;
+  if (st == NOSPD::ReturnStatus::BAD_DEFORMATION)
     error->one(FLERR, "pair_style {}: atom {} on step {}: the finite-strain law is undefined "
                "(det F <= 0) in its family (det F of the whole family {:.6g}){}",
                force->pair_style, atom->tag[i], update->ntimestep, F.determinant(),
                fix_bonds->unstable_cause());
-  inelastic_failure(i, law.status, F);
+  inelastic_failure(i, st, F);
 }
 
 /* ----------------------------------------------------------------------

@@ -112,9 +112,16 @@ class PairPeriNospdHS : public PairPeriNospd {
   void gather_family(int i, const NOSPD::BondPattern &p, const uint16_t *perm, FamilyWork &w,
                      int lane);
   // inelastic families: their law with history per bond-associated family
+  // (built-in plasticity or a UMAT); `active` is the one in use, if any
+  struct LaneLaws {
+    NOSPD::FamilyPlasticity plastic;
+    NOSPD::FamilyUmat umat;
+    NOSPD::BondLaw *active = nullptr;
+  };
   void begin_history(int i, const NOSPD::BondPattern &p, FamilyWork &w, int lane,
-                     NOSPD::FamilyPlasticity &law, NOSPD::LaneInput &in);
-  void family_failure(int i, const NOSPD::FamilyPlasticity &law, const NOSPD::Mat3 &F) const;
+                     LaneLaws &laws);
+  void finish_history(int i, LaneLaws &laws, int eflag, bool minimizing, Tally &t);
+  void family_failure(int i, const LaneLaws &laws, const NOSPD::Mat3 &F) const;
 
   // optional stabilization (silling, hourglass) on top of the
   // bond-associated forces
