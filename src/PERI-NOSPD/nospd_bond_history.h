@@ -58,13 +58,34 @@ namespace FamilyHist {
   constexpr int SIZE = FALLBACK + BondHist::SIZE;
 }    // namespace FamilyHist
 
+/* Where a family's law finds its rows: the accepted row hn and trial row
+   h1 of the family (its own values, then an entry of bond_stride values
+   per partner slot from bond_offset on), the pattern (for beta) and the
+   partner slot of each pattern slot. */
+struct FamilyRows {
+  const BondPattern *pattern = nullptr;
+  const double *hn = nullptr;      // accepted row
+  double *h1 = nullptr;            // trial row (a copy of hn when the family starts)
+  const int *slot_of = nullptr;    // pattern slot -> partner slot
+  int bond_offset = 0, bond_stride = 0;
+
+  // offset of a pattern slot's entry in a row
+  int entry(int slot) const { return bond_offset + bond_stride * slot_of[slot]; }
+  // the weight of the whole family's state: that of the singular bonds
+  double fallback_beta() const
+  {
+    double b = 0.0;
+    for (int j = 0; j < pattern->n; ++j)
+      if (pattern->singular[j]) b += pattern->beta[j];
+    return b;
+  }
+};
+
 /* The built-in J2/Johnson-Cook/thermal material on one bond-associated
-   family.  Set up per family: the material, the family's accepted row hn
-   and trial row h1 (FamilyHist, then per partner slot a BondHist entry at
-   bond(row, partner slot)), the pattern (for beta) and the partner slot of
-   each pattern slot.  evaluate_families() then calls begin() and stress();
-   finish() completes the family's trial row. */
-class FamilyPlasticity : public BondLaw {
+   family.  Set up per family: the material and the rows (FamilyHist,
+   then a BondHist entry per partner slot).  evaluate_families() then calls
+   begin() and stress(); finish() completes the family's trial row. */
+class FamilyPlasticity : public BondLaw, public FamilyRows {
  public:
   Law law = Law::SMALL;    // SMALL or HENCKY
   Plane plane = Plane::NONE;
@@ -72,11 +93,6 @@ class FamilyPlasticity : public BondLaw {
   const FlowLaw *fl = nullptr;
   const ThermalLaw *th = nullptr;
   PointEnv env;
-  const BondPattern *pattern = nullptr;
-  const double *hn = nullptr;    // accepted row
-  double *h1 = nullptr;          // trial row (a copy of hn when the family starts)
-  const int *slot_of = nullptr;  // pattern slot -> partner slot
-  int bond_offset = FamilyHist::SIZE, bond_stride = BondHist::SIZE;
   ReturnStatus status = ReturnStatus::OK;
 
   void begin(const Mat3 &F_family) override
@@ -95,8 +111,9 @@ class FamilyPlasticity : public BondLaw {
 
   bool stress(int slot, Mat3 &F, Mat3 &P, double &W) override
   {
-    const double *bn = slot < 0 ? hn + FamilyHist::FALLBACK : bond_entry(hn, slot);
-    double *b1 = slot < 0 ? h1 + FamilyHist::FALLBACK : bond_entry(h1, slot);
+    const int off = slot < 0 ? FamilyHist::FALLBACK : entry(slot);
+    const double *bn = hn + off;
+    double *b1 = h1 + off;
     double pn[Hist::SIZE] = {}, p1[Hist::SIZE];
     for (int k = 0; k < 6; ++k) pn[Hist::PLASTIC + k] = bn[BondHist::PLASTIC + k];
     pn[Hist::EQPS] = bn[BondHist::EQPS];
@@ -166,23 +183,6 @@ class FamilyPlasticity : public BondLaw {
   double plastic[6] = {};
   Mat3 Ffam = Mat3::Identity();
   bool replay = false;
-
-  const double *bond_entry(const double *row, int slot) const
-  {
-    return row + bond_offset + bond_stride * slot_of[slot];
-  }
-  double *bond_entry(double *row, int slot) const
-  {
-    return row + bond_offset + bond_stride * slot_of[slot];
-  }
-  // the weight of the whole family's state: that of the singular bonds
-  double fallback_beta() const
-  {
-    double b = 0.0;
-    for (int j = 0; j < pattern->n; ++j)
-      if (pattern->singular[j]) b += pattern->beta[j];
-    return b;
-  }
 };
 
 /* A UMAT on one bond-associated family: every bond is an integration
@@ -193,15 +193,11 @@ class FamilyPlasticity : public BondLaw {
    entry of the whole family's F.  As for one point, the UMAT is called
    with the increment from the accepted state, also at the accepted
    configuration (a zero increment). */
-class FamilyUmat : public BondLaw {
+class FamilyUmat : public BondLaw, public FamilyRows {
  public:
   const UmatMaterial *mat = nullptr;
   UmatPoint pt;
-  const BondPattern *pattern = nullptr;
-  const double *hn = nullptr;
-  double *h1 = nullptr;
-  const int *slot_of = nullptr;
-  int bond_offset = 0, bond_stride = 0, fallback = 0;
+  int fallback = 0;    // offset of the whole family's entry in the rows
   UmatStatus status = UmatStatus::OK;
 
   void begin(const Mat3 &F_family) override
@@ -213,18 +209,12 @@ class FamilyUmat : public BondLaw {
 
   bool stress(int slot, Mat3 &F, Mat3 &P, double &W) override
   {
-    const int off = slot < 0 ? fallback : bond_offset + bond_stride * slot_of[slot];
+    const int off = slot < 0 ? fallback : entry(slot);
     UmatPoint p = pt;
     p.npt = slot < 0 ? 1 : slot + 2;
     status = umat_point(*mat, p, F, hn + off, h1 + off, P, W);
     if (status != UmatStatus::OK) return false;
-    double beta = 0.0;
-    if (slot >= 0) {
-      beta = pattern->beta[slot];
-    } else {
-      for (int j = 0; j < pattern->n; ++j)
-        if (pattern->singular[j]) beta += pattern->beta[j];
-    }
+    const double beta = slot < 0 ? fallback_beta() : pattern->beta[slot];
     const double *b0 = hn + off, *b1 = h1 + off;
     for (int k : {UmatHist::SSE, UmatHist::SPD, UmatHist::SCD, UmatHist::WORK})
       acc[k] += beta * (b1[k] - b0[k]);

@@ -374,6 +374,7 @@ void PairPeriNospdHS::begin_history(int i, const BondPattern &p, FamilyWork &w, 
   std::copy(hn, hn + fix_bonds->nhistory, h1);
   const int itype = atom->type[i];
   if (!fix_bonds->nhist_bond) return;
+  NOSPD::FamilyRows *rows = nullptr;
   if (has_history(itype)) {
     NOSPD::FamilyPlasticity &law = laws.plastic;
     law.law = strain_law;
@@ -384,26 +385,24 @@ void PairPeriNospdHS::begin_history(int i, const BondPattern &p, FamilyWork &w, 
     law.env.dt = update->dt;
     law.env.T_base = temperature_base[i];
     law.env.rho = atom->rmass[i];
-    law.pattern = &p;
-    law.hn = hn;
-    law.h1 = h1;
-    law.slot_of = w.sbuf[lane].data();
-    law.bond_offset = fix_bonds->nhist_atom;
-    law.bond_stride = fix_bonds->nhist_bond;
+    rows = &law;
     laws.active = &law;
   } else if (is_umat(itype)) {
     NOSPD::FamilyUmat &law = laws.umat;
     law.mat = &user_materials->umat(itype);
     law.pt = umat_env(i);
-    law.pattern = &p;
-    law.hn = hn;
-    law.h1 = h1;
-    law.slot_of = w.sbuf[lane].data();
-    law.bond_offset = fix_bonds->nhist_atom;
-    law.bond_stride = fix_bonds->nhist_bond;
     law.fallback = user_materials->history_size();
+    rows = &law;
     laws.active = &law;
+  } else {
+    return;
   }
+  rows->pattern = &p;
+  rows->hn = hn;
+  rows->h1 = h1;
+  rows->slot_of = w.sbuf[lane].data();
+  rows->bond_offset = fix_bonds->nhist_atom;
+  rows->bond_stride = fix_bonds->nhist_bond;
 }
 
 /* ----------------------------------------------------------------------

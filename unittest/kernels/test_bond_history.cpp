@@ -62,6 +62,8 @@ struct Family {
     // partner slots in reverse pattern order: the mapping must be honoured
     for (int s = 0; s < p.n; s++) slots[s] = p.n - 1 - s;
     fp.slot_of = slots.data();
+    fp.bond_offset = FamilyHist::SIZE;
+    fp.bond_stride = BondHist::SIZE;
     hn.assign(FamilyHist::SIZE + BondHist::SIZE * p.n, 0.0);
     h1 = hn;
   }
