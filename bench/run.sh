@@ -4,7 +4,9 @@
 # usage: bench/run.sh LMP PLUGIN_DIR [n] [steps] [repeats]
 # Writes bench/results/throughput.csv and prints ratios to peri/lps.  Rows
 # run on one core unless their launch says otherwise: omp2 = one rank with
-# `-sf omp -pk omp 2`, np2 = `mpirun -np 2`.
+# `-sf omp -pk omp 2`, np2 = `mpirun -np 2`.  BENCH_ONLY (an extended regular
+# expression) keeps the rows whose launch:style|settings|coeff matches it;
+# peri/lps always runs, for the ratio.
 set -euo pipefail
 LMP=$1; PLUGIN_DIR=$2; N=${3:-41}; STEPS=${4:-50}; REPEATS=${5:-3}
 HERE=$(cd "$(dirname "$0")" && pwd)
@@ -22,10 +24,13 @@ declare -a MODELS=("lps|" "pmb|" "nospd|stabilization none" "nospd|stabilization
   "nospd|strain hencky|yield 2e6 hardening linear 1e9"
   "nospd|strain hencky|johnson_cook 2e6 1e8 0.3 0.01 1 1 293 1000 heat 900 0.9"
   "hs|form II" "hs|form I"
+  "hs|form II strain small|yield 2e6 hardening linear 1e9"
+  "hs|form II strain hencky|yield 2e6 hardening linear 1e9"
   "omp2:nospd|stabilization silling 0.5" "np2:nospd|stabilization silling 0.5"
   "np2:lps|" "omp2:hs|form II")
 lps_rate=""
 for m in "${MODELS[@]}"; do
+  if [ -n "${BENCH_ONLY:-}" ] && [ "$m" != "lps|" ] && ! grep -Eq -- "$BENCH_ONLY" <<< "$m"; then continue; fi
   launch=1; [[ "$m" == *:* && "${m%%|*}" == *:* ]] && { launch=${m%%:*}; m=${m#*:}; }
   style=${m%%|*}; rest=${m#*|}; settings=${rest%%|*}; coeff=""
   [ "$rest" != "$settings" ] && coeff=${rest#*|}
