@@ -492,6 +492,28 @@ TEST_F(InelasticBadInput, KinematicFiniteStrain)
   coeff_error("strain hencky", "yield 1e8 kinematic 1e9");
   EXPECT_THAT(error_of(lmp, "run 0"), HasSubstr("kinematic hardening is implemented for strain small only"));
 }
+// an inverted body (a mirror image, det F = -1 everywhere) stops the run
+// with an atom and the step named, in both styles, never with NaN
+TEST_F(InelasticBadInput, InvertedFamilyNamed)
+{
+  for (const char *style : {"peri/nospd", "peri/nospd/hs"}) {
+    delete lmp;
+    lmp = open_lammps();
+    Block b;
+    b.n = 5;
+    b.style = style;
+    b.settings = "strain hencky";
+    make_block(lmp, b);
+    cmd(lmp, "pair_coeff * * 200e9 0.3 " + num(b.delta()) + " yield 1e8");
+    cmd(lmp, "run 0");
+    cmd(lmp, "variable mx atom 0.004-x");
+    cmd(lmp, "set group all x v_mx");
+    EXPECT_THAT(error_of(lmp, "run 0"),
+                ::testing::AllOf(HasSubstr("on step 0"), HasSubstr("det F"),
+                                 HasSubstr("undefined"), HasSubstr("atom")))
+        << style;
+  }
+}
 TEST_F(InelasticBadInput, MissingTemperatureProperty)
 {
   coeff_error("temperature d_nothere", "thermal 1e-5 293");
