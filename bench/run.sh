@@ -4,7 +4,8 @@
 # usage: bench/run.sh LMP PLUGIN_DIR [n] [steps] [repeats]
 # Writes bench/results/throughput.csv and prints ratios to peri/lps.  Rows
 # run on one core unless their launch says otherwise: omp2 = one rank with
-# `-sf omp -pk omp 2`, np2 = `mpirun -np 2`.  BENCH_ONLY (an extended regular
+# `-sf omp -pk omp 2`, np2 = `mpirun -np 2`, np2rcb = `mpirun -np 2` with
+# tiled communication balanced by recursive bisection.  BENCH_ONLY (an extended regular
 # expression) keeps the rows whose launch:style|settings|coeff matches it;
 # peri/lps always runs, for the ratio.
 set -euo pipefail
@@ -27,7 +28,7 @@ declare -a MODELS=("lps|" "pmb|" "nospd|stabilization none" "nospd|stabilization
   "hs|form II strain small|yield 2e6 hardening linear 1e9"
   "hs|form II strain hencky|yield 2e6 hardening linear 1e9"
   "omp2:nospd|stabilization silling 0.5" "np2:nospd|stabilization silling 0.5"
-  "np2:lps|" "omp2:hs|form II")
+  "np2:lps|" "omp2:hs|form II" "np2rcb:nospd|stabilization silling 0.5" "np2rcb:lps|")
 lps_rate=""
 for m in "${MODELS[@]}"; do
   if [ -n "${BENCH_ONLY:-}" ] && [ "$m" != "lps|" ] && ! grep -Eq -- "$BENCH_ONLY" <<< "$m"; then continue; fi
@@ -38,6 +39,7 @@ for m in "${MODELS[@]}"; do
   case $launch in
     omp2) post=(-sf omp -pk omp 2); threads=2 ;;
     np2) pre=(mpirun --allow-run-as-root -np 2); ranks=2 ;;
+    np2rcb) pre=(mpirun --allow-run-as-root -np 2); post=(-var rcb yes); ranks=2 ;;
   esac
   best=""
   for r in $(seq "$REPEATS"); do
@@ -54,6 +56,7 @@ for m in "${MODELS[@]}"; do
   [ "$style" = lps ] && [ "$launch" = 1 ] && lps_rate=$rate
   ratio=$(awk -v a="$rate" -v b="${lps_rate:-0}" 'BEGIN{ if (b>0) printf "%.3g", a/b; else print "" }')
   label="$settings${coeff:+ / $coeff}"
+  [ "$launch" = np2rcb ] && label="$label [tiled, rcb]"
   echo "peri/${style},$label,$ranks,$threads,$points,$STEPS,$best,$rate,$ratio,${mem:-}" >> "$CSV"
   [ "$style" = hs ] && style=nospd/hs
   printf "%-10s %-34s %dx%d %9s point-steps/s  x%-6s vs peri/lps  %s B/point\n" "peri/$style" "$label" \

@@ -9,7 +9,7 @@ MPIRUN=(mpirun --allow-run-as-root --oversubscribe)
 run() { # nprocs mode out
   "${MPIRUN[@]}" -np "$1" "$LMP" -in "$HERE/in.invariance" -log "$3.log" -screen none \
     -var dim "$DIM" -var style "$STYLE" -var settings "$SETTINGS" -var mode "$2" -var out "$3" \
-    -var coeff "$COEFF"
+    -var coeff "$COEFF" -var rcb "${NOSPD_RCB:-no}"
 }
 run 1 full serial
 run 2 full np2
