@@ -58,6 +58,37 @@ namespace FamilyHist {
   constexpr int SIZE = FALLBACK + BondHist::SIZE;
 }    // namespace FamilyHist
 
+namespace detail {
+  // the point history (Hist) a bond entry stands for: its plastic state,
+  // Prager's back stress rebuilt from it; rate and heat are the caller's
+  inline void bond_point_history(const double *bond, double Hkin, double *pn)
+  {
+    for (int k = 0; k < Hist::SIZE; ++k) pn[k] = 0.0;
+    for (int k = 0; k < 6; ++k) pn[Hist::PLASTIC + k] = bond[BondHist::PLASTIC + k];
+    pn[Hist::EQPS] = bond[BondHist::EQPS];
+    if (Hkin > 0.0)
+      for (int k = 0; k < 6; ++k) pn[Hist::BACK + k] = (2.0 / 3.0) * Hkin * pn[Hist::PLASTIC + k];
+  }
+
+  // the return of one bond at F under the plane assumption (plane stress
+  // solves F33 for P33 = 0, as the classical point does)
+  inline ReturnStatus bond_return(Law law, Plane plane, const Lame &m, const FlowLaw &fl,
+                                  const ThermalLaw &th, const PointEnv &env, Mat3 &F,
+                                  const double *pn, double *p1, Mat3 &P, double &W)
+  {
+    double Wt;
+    if (plane != Plane::STRESS) return point_core(law, m, fl, th, env, F, pn, p1, P, W, Wt);
+    ReturnStatus st = ReturnStatus::OK;
+    auto eval = [&](const Mat3 &Ft, Mat3 &Pt, double &Wtt) {
+      st = point_core(law, m, fl, th, env, Ft, pn, p1, Pt, Wtt, Wt);
+      return st == ReturnStatus::OK;
+    };
+    if (!solve_plane_stress(m, F, P, W, eval) && st == ReturnStatus::OK)
+      st = ReturnStatus::NO_CONVERGENCE;
+    return st;
+  }
+}    // namespace detail
+
 /* Where a family's law finds its rows: the accepted row hn and trial row
    h1 of the family (its own values, then an entry of bond_stride values
    per partner slot from bond_offset on), the pattern (for beta) and the
@@ -114,26 +145,11 @@ class FamilyPlasticity : public BondLaw, public FamilyRows {
     const int off = slot < 0 ? FamilyHist::FALLBACK : entry(slot);
     const double *bn = hn + off;
     double *b1 = h1 + off;
-    double pn[Hist::SIZE] = {}, p1[Hist::SIZE];
-    for (int k = 0; k < 6; ++k) pn[Hist::PLASTIC + k] = bn[BondHist::PLASTIC + k];
-    pn[Hist::EQPS] = bn[BondHist::EQPS];
-    if (fl->Hkin > 0.0)
-      for (int k = 0; k < 6; ++k) pn[Hist::BACK + k] = (2.0 / 3.0) * fl->Hkin * pn[Hist::PLASTIC + k];
+    double pn[Hist::SIZE], p1[Hist::SIZE];
+    detail::bond_point_history(bn, fl->Hkin, pn);
     pn[Hist::RATE] = replay ? hn[FamilyHist::RATE_USED] : hn[Hist::RATE];
     pn[Hist::HEAT] = replay ? hn[FamilyHist::HEAT_USED] : hn[Hist::HEAT];
-
-    double Wt;
-    ReturnStatus st = ReturnStatus::OK;
-    if (plane != Plane::STRESS) {
-      st = detail::point_core(law, *m, *fl, *th, env, F, pn, p1, P, W, Wt);
-    } else {
-      auto eval = [&](const Mat3 &Ft, Mat3 &Pt, double &Wtt) {
-        st = detail::point_core(law, *m, *fl, *th, env, Ft, pn, p1, Pt, Wtt, Wt);
-        return st == ReturnStatus::OK;
-      };
-      if (!solve_plane_stress(*m, F, P, W, eval) && st == ReturnStatus::OK)
-        st = ReturnStatus::NO_CONVERGENCE;
-    }
+    const ReturnStatus st = detail::bond_return(law, plane, *m, *fl, *th, env, F, pn, p1, P, W);
     if (st != ReturnStatus::OK) {
       status = st;
       return false;
@@ -248,16 +264,9 @@ inline bool accepted_bond_stress(Law law, Plane plane, const Lame &m, const Flow
   elastic.active = false;
   PointEnv env;
   env.T_base = T;
-  double pn[Hist::SIZE] = {}, p1[Hist::SIZE];
-  for (int k = 0; k < 6; ++k) pn[Hist::PLASTIC + k] = bond[BondHist::PLASTIC + k];
-  pn[Hist::EQPS] = bond[BondHist::EQPS];
-  double W, Wt;
-  if (plane != Plane::STRESS)
-    return detail::point_core(law, m, elastic, th, env, F, pn, p1, P, W, Wt) == ReturnStatus::OK;
-  return solve_plane_stress(m, F, P, W, [&](const Mat3 &Ft, Mat3 &Pt, double &Wtt) {
-    return detail::point_core(law, m, elastic, th, env, Ft, pn, p1, Pt, Wtt, Wt) ==
-        ReturnStatus::OK;
-  });
+  double pn[Hist::SIZE], p1[Hist::SIZE], W;
+  detail::bond_point_history(bond, 0.0, pn);
+  return detail::bond_return(law, plane, m, elastic, th, env, F, pn, p1, P, W) == ReturnStatus::OK;
 }
 
 }    // namespace NOSPD
