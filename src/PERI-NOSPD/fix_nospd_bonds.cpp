@@ -16,7 +16,9 @@
 #include "thermo.h"
 #include "update.h"
 
+#include "nospd_bond_sums.h"
 #include "nospd_plasticity.h"
+#include "nospd_simd.h"
 #include "nospd_tensor.h"
 
 static constexpr int NOSPD_HIST_WORK = NOSPD::Hist::WORK;
@@ -185,11 +187,13 @@ void FixNospdBonds::update_x0s()
     for (int k = 0; k < 3; k++) ref_prd[k] = domain->prd[k];
     ref_box_set = 1;
   }
-  if (nall > nmax_x0s) {
-    nmax_x0s = atom->nmax;
+  // one row more than the atoms: the bond sums read a double past the last
+  if (nall + 1 > nmax_x0s) {
+    nmax_x0s = std::max(atom->nmax, nall + 1);
     memory->destroy(x0s_store);
     memory->create(x0s_store, nmax_x0s, 3, "nospd/bonds:x0s");
   }
+  x0s_store[nall][0] = x0s_store[nall][1] = x0s_store[nall][2] = 0.0;
   double **x = atom->x;
   double **x0 = atom->x0;
   const double *prd = domain->prd;
@@ -781,73 +785,82 @@ void FixNospdBonds::count_bonds()
    cancellation between Y and xi, so F is exact to round-off.
 ------------------------------------------------------------------------- */
 
-void FixNospdBonds::compute_deformation(double **moments, int from, int to)
+namespace {
+
+// what pass 1 writes per point (flat, as the fix's 2d arrays are stored)
+struct DeformationOut {
+  double *F;          // 9 per atom
+  double *umom;       // 3 per atom
+  double *moments;    // 6 per atom, or null
+};
+
+template <bool MOMENTS>
+NOSPD_KERNEL_CLONES void deformation_range(const NOSPD::Positions &p, const int *first,
+                                           const int *bj, const double *bw, const double *kinv,
+                                           const int *singular, int dim, int from, int to,
+                                           const DeformationOut &out)
 {
-  // flat views of the per-atom arrays: one load per value in the inner loop
-  const double *_noalias const xf = atom->x[0];
-  const double *_noalias const x0f = x0s[0];
-  const int *_noalias const bj = bond_j;
-  const double *_noalias const bw = bond_w;
-  if (to < 0) to = atom->nlocal;
   for (int i = from; i < to; i++) {
-    double *F = defgrad[i];
+    double *F = out.F + 9 * i;
+    double *s = out.umom + 3 * i;
+    double *m = MOMENTS ? out.moments + 6 * i : nullptr;
     if (singular[i]) {
       for (int k = 0; k < 9; k++) F[k] = (k % 4 == 0) ? 1.0 : 0.0;
-      if (moments)
-        for (int k = 0; k < 6; k++) moments[i][k] = 0.0;
-      u_moment[i][0] = u_moment[i][1] = u_moment[i][2] = 0.0;
+      if (MOMENTS)
+        for (int k = 0; k < 6; k++) m[k] = 0.0;
+      s[0] = s[1] = s[2] = 0.0;
       continue;
     }
-    const double xi0 = x0f[3 * i], yi0 = x0f[3 * i + 1], zi0 = x0f[3 * i + 2];
-    const double xi = xf[3 * i], yi = xf[3 * i + 1], zi = xf[3 * i + 2];
-    double n[9] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
-    double m[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
-    double sx = 0.0, sy = 0.0, sz = 0.0;
-    const int bend = bond_first[i + 1];
-    for (int b = bond_first[i]; b < bend; b++) {
-      const int j = bj[b];
-      const double w = bw[b];
-      const double *X0j = x0f + 3 * j;
-      const double *Xj = xf + 3 * j;
-      const double ex = X0j[0] - xi0, ey = X0j[1] - yi0, ez = X0j[2] - zi0;
-      const double ux = (Xj[0] - xi) - ex, uy = (Xj[1] - yi) - ey, uz = (Xj[2] - zi) - ez;
-      const double wx = w * ux, wy = w * uy, wz = w * uz;
-      sx += wx;
-      sy += wy;
-      sz += wz;
-      n[0] += wx * ex;
-      n[1] += wx * ey;
-      n[2] += wx * ez;
-      n[3] += wy * ex;
-      n[4] += wy * ey;
-      n[5] += wy * ez;
-      n[6] += wz * ex;
-      n[7] += wz * ey;
-      n[8] += wz * ez;
-      if (moments) {
-        m[0] += wx * ux;
-        m[1] += wy * uy;
-        m[2] += wz * uz;
-        m[3] += wx * uy;
-        m[4] += wx * uz;
-        m[5] += wy * uz;
-      }
-    }
-    u_moment[i][0] = sx;
-    u_moment[i][1] = sy;
-    u_moment[i][2] = sz;
-    const double *K = kinv[i];
+    double n[9];
+    NOSPD::deformation_sums<MOMENTS>(p, {bj, bw, first[i], first[i + 1]}, i, n, s, m);
+    // F = I + N K^-1
+    const double *K = kinv + 9 * i;
     for (int r = 0; r < 3; r++)
       for (int c = 0; c < 3; c++)
         F[3 * r + c] = (r == c ? 1.0 : 0.0) + n[3 * r] * K[c] + n[3 * r + 1] * K[3 + c] +
             n[3 * r + 2] * K[6 + c];
-    if (model.dim == 2) {
+    if (dim == 2) {
       F[2] = F[5] = F[6] = F[7] = 0.0;
       F[8] = 1.0;
     }
-    if (moments)
-      for (int k = 0; k < 6; k++) moments[i][k] = m[k];
   }
+}
+
+}    // namespace
+
+void FixNospdBonds::compute_deformation(const NOSPD::Positions &pos, double **moments, int from,
+                                        int to)
+{
+  if (to < 0) to = atom->nlocal;
+  if (to <= from) return;
+  const DeformationOut out{defgrad[0], u_moment[0], moments ? moments[0] : nullptr};
+  if (moments)
+    deformation_range<true>(pos, bond_first, bond_j, bond_w, kinv[0], singular, model.dim, from,
+                            to, out);
+  else
+    deformation_range<false>(pos, bond_first, bond_j, bond_w, kinv[0], singular, model.dim, from,
+                             to, out);
+}
+
+/* ----------------------------------------------------------------------
+   LAMMPS grows x and x0 in chunks, so nall < nmax (room for the read past
+   the last atom) nearly always holds; a copy covers the other case
+------------------------------------------------------------------------- */
+
+NOSPD::Positions FixNospdBonds::padded_positions()
+{
+  const int nall = atom->nlocal + atom->nghost;
+  auto padded = [&](double **a, bool room, std::vector<double> &copy) -> const double * {
+    if (nall == 0) return nullptr;
+    if (room) return a[0];
+    copy.assign(3 * (size_t) nall + 1, 0.0);
+    std::memcpy(copy.data(), a[0], 3 * (size_t) nall * sizeof(double));
+    return copy.data();
+  };
+  const bool room = nall < atom->nmax;
+  // x0s_store keeps a spare row of its own (update_x0s)
+  const bool room0 = (x0s != atom->x0) || room;
+  return {padded(atom->x, room, x_padded), padded(x0s, room0, x0_padded)};
 }
 
 /* ---------------------------------------------------------------------- */

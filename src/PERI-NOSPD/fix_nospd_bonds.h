@@ -13,6 +13,8 @@ FixStyle(PERI_NEIGH/NOSPD,FixNospdBonds);
 
 #include "fix_peri_neigh.h"
 
+#include "nospd_bond_sums.h"
+
 #include <vector>
 
 namespace LAMMPS_NS {
@@ -87,8 +89,16 @@ class FixNospdBonds : public FixPeriNeigh {
   // Pass 1: F = I + (sum_j w U (x) xi) K^-1 for every owned atom.  When
   // `moments` is given it also receives sum_j w U (x) U (6 values, xx yy zz
   // xy xz yz) per atom, which the stabilization energy needs.
-  // F (and the moments) of the owned atoms [from, to); to < 0: all
-  void compute_deformation(double **moments = nullptr, int from = 0, int to = -1);
+  // F (and the moments) of the owned atoms [from, to); to < 0: all.
+  // pos: padded_positions() of this step.
+  void compute_deformation(const NOSPD::Positions &pos, double **moments = nullptr, int from = 0,
+                           int to = -1);
+  // Current and reference (x0s) positions of owned + ghost atoms, flat, as
+  // the bond sums load them (nospd_bond_sums.h: one readable double past
+  // the last atom): LAMMPS's own arrays where their allocation already has
+  // that room, else a padded copy.  Call once per force evaluation, after
+  // the positions' forward communication.
+  NOSPD::Positions padded_positions();
 
   // Breaking bonds (damage fix): zero the partner slot, mark K^-1 stale.
   // Call bonds_changed() once after a batch of breaks on all ranks.
@@ -155,6 +165,7 @@ class FixNospdBonds : public FixPeriNeigh {
   int pack_history(int i, double *buf) const;
   int unpack_history(int i, const double *buf, int n_atom, int n_bond);
   double **x0s_store;    // x0s when the box is periodic (else x0s = atom->x0)
+  std::vector<double> x_padded, x0_padded;    // padded_positions()' copies, when needed
   int ref_box_set;       // ref_prd holds the box of the first build
   double ref_prd[3];     // periodic lengths of the reference configuration
 

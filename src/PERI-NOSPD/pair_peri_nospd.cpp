@@ -20,10 +20,13 @@
 #include "update.h"
 #include "variable.h"
 
+#include "nospd_bond_sums.h"
+#include "nospd_simd.h"
 #include "nospd_threads.h"
 
 #include <cmath>
 #include <cstring>
+#include <vector>
 
 using namespace LAMMPS_NS;
 using NOSPD::Law;
@@ -711,8 +714,11 @@ void PairPeriNospd::grow_work()
   memory->destroy(temperature_base);
   memory->create(stab_atom, nmax_work, "pair:stab_atom");
   memory->create(temperature_base, nmax_work, "pair:temperature_base");
-  memory->create(bmat, nmax_work, 9, "pair:bmat");
-  memory->create(tmat, nmax_work, 9, "pair:tmat");
+  // B^T and T^T, with a spare row: the bond sums read a double past the last atom
+  memory->create(bmat, nmax_work + 1, 9, "pair:bmat");
+  memory->create(tmat, nmax_work + 1, 9, "pair:tmat");
+  memset(bmat[0], 0, sizeof(double) * 9 * (nmax_work + 1));
+  memset(tmat[0], 0, sizeof(double) * 9 * (nmax_work + 1));
   memory->create(moments, nmax_work, 6, "pair:moments");
 }
 
@@ -725,8 +731,9 @@ void PairPeriNospd::compute(int eflag, int vflag)
 
   const bool linear_stab = (stab == Stab::SILLING || stab == Stab::WAN);
   double **mom = (eflag && linear_stab) ? moments : nullptr;
+  positions = fix_bonds->padded_positions();
   for_ranges(atom->nlocal, true, [&](int from, int to, int, Tally &) {
-    fix_bonds->compute_deformation(mom, from, to);
+    fix_bonds->compute_deformation(positions, mom, from, to);
   });
   constitutive_pass(eflag);
   comm->forward_comm(this);
@@ -806,11 +813,11 @@ void PairPeriNospd::constitutive_range(int from, int to, int eflag, Tally &t)
     } else if (stab == Stab::WAN) {
       const Mat3 S = NOSPD::wan_tensor(lame[itype], domain->dimension, plane_mode, Ki);
       B -= S * H;
-      NOSPD::store(S, tmat[i]);
+      store_transposed(S, tmat[i]);
     } else if (stab == Stab::HOURGLASS) {
-      NOSPD::store(H, tmat[i]);
+      store_transposed(H, tmat[i]);
     }
-    NOSPD::store(B, bmat[i]);
+    store_transposed(B, bmat[i]);
 
     if (eflag) {
       double e = W;
@@ -818,7 +825,7 @@ void PairPeriNospd::constitutive_range(int from, int to, int eflag, Tally &t)
         // 1/2 sum_j w z.S z = 1/2 S : Z
         const Mat3 Z = nonaffine_moment(i, H, Ki);
         if (stab == Stab::SILLING) e += 0.5 * stab_scalar[itype] * Z.trace();
-        else e += 0.5 * NOSPD::load(tmat[i]).cwiseProduct(Z).sum();
+        else e += 0.5 * NOSPD::load(tmat[i]).cwiseProduct(Z).sum();    // S^T : Z = S : Z, Z symmetric
       }
       wdens[i] = e;
       // minimize solves one load step of the plasticity: its energy is the
@@ -1005,12 +1012,51 @@ void PairPeriNospd::tally_energy(int i, double e)
   if (eflag_atom) eatom[i] += e;
 }
 
+namespace {
+
+// what pass 2 adds up per point, besides the bond lists
+struct ForceOut {
+  double *f;                 // 3 per atom (atom->f, flat)
+  double *v;                 // 6 per atom in range order, with VIRIAL
+};
+
+/* forces of points [from, to); without VIRIAL the i-terms B_i sum_j w xi
+   and S_i sum_j w U come from the moments rather than from every bond */
+template <int STAB, int VIRIAL>
+NOSPD_KERNEL_CLONES void force_range_kernel(const NOSPD::Positions &p, const int *first,
+                                            const int *bj, const double *bw,
+                                            const NOSPD::ForceTerms &ft, const double *ximom,
+                                            const double *umom, int from, int to,
+                                            const ForceOut &out)
+{
+  for (int i = from; i < to; i++) {
+    double f[3], v[6];
+    NOSPD::force_sums<STAB, VIRIAL>(p, {bj, bw, first[i], first[i + 1]}, ft, i, f, v);
+    if (!VIRIAL) {
+      // B and T are stored transposed: B(r, k) = Bt[3 k + r]
+      const double *Bt = ft.B + 9 * i;
+      const double *m = ximom + 3 * i;
+      for (int r = 0; r < 3; r++) f[r] += Bt[r] * m[0] + Bt[3 + r] * m[1] + Bt[6 + r] * m[2];
+      const double *u = umom + 3 * i;
+      if (STAB == 1) {
+        const double si = ft.sc[i];
+        for (int r = 0; r < 3; r++) f[r] += si * u[r];
+      } else if (STAB == 3) {
+        const double *Tt = ft.T + 9 * i;
+        for (int r = 0; r < 3; r++) f[r] += Tt[r] * u[0] + Tt[3 + r] * u[1] + Tt[6 + r] * u[2];
+      }
+    }
+    for (int d = 0; d < 3; d++) out.f[3 * i + d] += f[d];
+    if (VIRIAL)
+      for (int k = 0; k < 6; k++) out.v[6 * (i - from) + k] = v[k];
+  }
+}
+
+}    // namespace
+
 /* ----------------------------------------------------------------------
    pass 2: f_i = sum_j w ((B_i + B_j) xi + (S_i + S_j) U)  [+ hourglass]
-   The i-terms factor out of the sum: B_i sum_j w xi + S_i sum_j w U, both
-   moments kept by the bonds fix, so the inner loop touches only j's data.
-   With a virial every bond's full pair force is needed, so the loop
-   carries the i-terms too.
+   (the bond sums: nospd_bond_sums.h)
 ------------------------------------------------------------------------- */
 
 template <int STAB, int VIRIAL> void PairPeriNospd::force_pass(int /*eflag*/)
@@ -1021,115 +1067,19 @@ template <int STAB, int VIRIAL> void PairPeriNospd::force_pass(int /*eflag*/)
 
 template <int STAB, int VIRIAL> void PairPeriNospd::force_range(int from, int to, Tally &t)
 {
-  // flat views of the per-atom arrays: one load per value in the inner loop
-  const double *_noalias const xf = atom->x[0];
-  const double *_noalias const x0f = fix_bonds->x0s[0];
-  const double *_noalias const bf = bmat[0];
-  const double *_noalias const tf = tmat[0];
-  const double *_noalias const sa = stab_atom;
-  const int *_noalias const bfirst = fix_bonds->bond_first;
-  const int *_noalias const bj = fix_bonds->bond_j;
-  const double *_noalias const bw = fix_bonds->bond_w;
-  double **ximom = fix_bonds->xi_moment;
-  double **umom = fix_bonds->u_moment;
-
+  if (to <= from) return;
+  const NOSPD::ForceTerms ft{bmat[0], tmat[0], stab_atom};
+  std::vector<double> v(VIRIAL ? 6 * (to - from) : 0);
+  force_range_kernel<STAB, VIRIAL>(positions, fix_bonds->bond_first, fix_bonds->bond_j,
+                                   fix_bonds->bond_w, ft, fix_bonds->xi_moment[0],
+                                   fix_bonds->u_moment[0], from, to, {atom->f[0], v.data()});
+  if (!VIRIAL) return;
   for (int i = from; i < to; i++) {
-    const double *Bi = bf + 9 * i;
-    const double *Ti = tf + 9 * i;
-    const double si = sa[i];
-    const double xi0 = x0f[3 * i], yi0 = x0f[3 * i + 1], zi0 = x0f[3 * i + 2];
-    const double xc = xf[3 * i], yc = xf[3 * i + 1], zc = xf[3 * i + 2];
-    double fx = 0.0, fy = 0.0, fz = 0.0;
-    double v[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
-    Mat3 Hi;
-    if (STAB == 2) Hi = NOSPD::load(Ti);
-
-    const int bend = bfirst[i + 1];
-    for (int b = bfirst[i]; b < bend; b++) {
-      const int j = bj[b];
-      const double w = bw[b];
-      const double *X0j = x0f + 3 * j;
-      const double *Xj = xf + 3 * j;
-      const double ex = X0j[0] - xi0, ey = X0j[1] - yi0, ez = X0j[2] - zi0;
-      const double yx = Xj[0] - xc, yy = Xj[1] - yc, yz = Xj[2] - zc;
-      const double ux = yx - ex, uy = yy - ey, uz = yz - ez;
-      const double *Bj = bf + 9 * j;
-      double gx = Bj[0] * ex + Bj[1] * ey + Bj[2] * ez;
-      double gy = Bj[3] * ex + Bj[4] * ey + Bj[5] * ez;
-      double gz = Bj[6] * ex + Bj[7] * ey + Bj[8] * ez;
-      if (VIRIAL) {
-        gx += Bi[0] * ex + Bi[1] * ey + Bi[2] * ez;
-        gy += Bi[3] * ex + Bi[4] * ey + Bi[5] * ez;
-        gz += Bi[6] * ex + Bi[7] * ey + Bi[8] * ez;
-      }
-      if (STAB == 1) {
-        const double s = VIRIAL ? si + sa[j] : sa[j];
-        gx += s * ux;
-        gy += s * uy;
-        gz += s * uz;
-      } else if (STAB == 3) {
-        const double *Tj = tf + 9 * j;
-        gx += Tj[0] * ux + Tj[1] * uy + Tj[2] * uz;
-        gy += Tj[3] * ux + Tj[4] * uy + Tj[5] * uz;
-        gz += Tj[6] * ux + Tj[7] * uy + Tj[8] * uz;
-        if (VIRIAL) {
-          gx += Ti[0] * ux + Ti[1] * uy + Ti[2] * uz;
-          gy += Ti[3] * ux + Ti[4] * uy + Ti[5] * uz;
-          gz += Ti[6] * ux + Ti[7] * uy + Ti[8] * uz;
-        }
-      } else if (STAB == 2) {
-        // hourglass: (c_i z_i + c_j z_j).Y / (|Y|^2 |xi|) Y, z = U - H xi
-        const double *Hj = tf + 9 * j;
-        const double hix = Hi(0, 0) * ex + Hi(0, 1) * ey + Hi(0, 2) * ez;
-        const double hiy = Hi(1, 0) * ex + Hi(1, 1) * ey + Hi(1, 2) * ez;
-        const double hiz = Hi(2, 0) * ex + Hi(2, 1) * ey + Hi(2, 2) * ez;
-        const double hjx = Hj[0] * ex + Hj[1] * ey + Hj[2] * ez;
-        const double hjy = Hj[3] * ex + Hj[4] * ey + Hj[5] * ez;
-        const double hjz = Hj[6] * ex + Hj[7] * ey + Hj[8] * ez;
-        const double sj = sa[j];
-        const double zx = si * (ux - hix) + sj * (ux - hjx);
-        const double zy = si * (uy - hiy) + sj * (uy - hjy);
-        const double zz = si * (uz - hiz) + sj * (uz - hjz);
-        const double ry2 = yx * yx + yy * yy + yz * yz;
-        if (ry2 > 0.0) {
-          const double c = (zx * yx + zy * yy + zz * yz) / (ry2 * sqrt(ex * ex + ey * ey + ez * ez));
-          gx += c * yx;
-          gy += c * yy;
-          gz += c * yz;
-        }
-      }
-      fx += w * gx;
-      fy += w * gy;
-      fz += w * gz;
-      if (VIRIAL) {
-        // 1/2 r (x) F with r = x_i - x_j = -Y and F = w g, the force on i
-        const double hx = -0.5 * w * yx, hy = -0.5 * w * yy, hz = -0.5 * w * yz;
-        v[0] += hx * gx;
-        v[1] += hy * gy;
-        v[2] += hz * gz;
-        v[3] += hx * gy;
-        v[4] += hx * gz;
-        v[5] += hy * gz;
-      }
-    }
-
-    if (!VIRIAL) {
-      const double *m = ximom[i];
-      fx += Bi[0] * m[0] + Bi[1] * m[1] + Bi[2] * m[2];
-      fy += Bi[3] * m[0] + Bi[4] * m[1] + Bi[5] * m[2];
-      fz += Bi[6] * m[0] + Bi[7] * m[1] + Bi[8] * m[2];
-      const double *u = umom[i];
-      if (STAB == 1) {
-        fx += si * u[0];
-        fy += si * u[1];
-        fz += si * u[2];
-      } else if (STAB == 3) {
-        fx += Ti[0] * u[0] + Ti[1] * u[1] + Ti[2] * u[2];
-        fy += Ti[3] * u[0] + Ti[4] * u[1] + Ti[5] * u[2];
-        fz += Ti[6] * u[0] + Ti[7] * u[1] + Ti[8] * u[2];
-      }
-    }
-    add_force_virial(i, fx, fy, fz, v, VIRIAL, t);
+    const double *vi = v.data() + 6 * (i - from);
+    if (vflag_global)
+      for (int k = 0; k < 6; k++) t.virial[k] += vi[k];
+    if (vflag_atom)
+      for (int k = 0; k < 6; k++) vatom[i][k] += vi[k];
   }
 }
 

@@ -14,6 +14,7 @@ PairStyle(peri/nospd,PairPeriNospd);
 #include "atom.h"
 #include "pair.h"
 
+#include "nospd_bond_sums.h"
 #include "nospd_plasticity.h"
 #include "nospd_stabilization.h"
 #include "nospd_user_material.h"
@@ -108,7 +109,15 @@ class PairPeriNospd : public Pair {
   // per atom (owned + ghost), forward-communicated: B = P K^-1 - S H,
   // and S (Wan) or H (hourglass) where the stabilization needs a tensor
   int nmax_work;
+  // per atom: B = P K^-1 - S H and the stabilization's tensor (Wan's S or
+  // the hourglass H), both stored transposed (column by column) with a
+  // spare row, as the bond sums load them (nospd_bond_sums.h)
   double **bmat, **tmat, **moments;
+  NOSPD::Positions positions{};    // this step's padded positions (pass 1 and 2)
+  static void store_transposed(const NOSPD::Mat3 &M, double *to)
+  {
+    NOSPD::store(NOSPD::Mat3(M.transpose()), to);
+  }
   double *stab_atom;   // per-atom stabilization scalar: 0 where K is singular
   int comm_tensors;    // 1 or 2 tensors of 9 in the forward comm
 

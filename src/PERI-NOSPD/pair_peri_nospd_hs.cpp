@@ -15,6 +15,8 @@
 #include "memory.h"
 #include "update.h"
 
+#include "nospd_simd.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -46,23 +48,10 @@ static constexpr double WEIGHT_TOL = 1.0e-12;
 // construction costs about as much as evaluating a few hundred families)
 static constexpr int PROGRAM_USERS = 64;
 
-/* ----------------------------------------------------------------------
-   The evaluation kernel, built for the generic target and, on x86-64
-   Linux with GCC >= 11, also for AVX2 and AVX-512 (the best one the CPU
-   has is chosen when the plugin loads).  Its row sums and 3x3 products
-   are plain loops that widen with the target; this makes a default build
-   about 10% faster on CPUs that have the wider units.  Define
-   NOSPD_NO_KERNEL_CLONES to build the generic kernel only.
-------------------------------------------------------------------------- */
-
-#if !defined(NOSPD_NO_KERNEL_CLONES) && defined(__x86_64__) && defined(__linux__) && \
-    !defined(__clang__) && \
-    !defined(__INTEL_LLVM_COMPILER) && defined(__GNUC__) && __GNUC__ >= 11
-#define NOSPD_KERNEL_CLONES \
-  __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default"), flatten))
-#else
-#define NOSPD_KERNEL_CLONES
-#endif
+/* the evaluation kernel is built for the generic target and, where the
+   compiler can, for AVX2 and AVX-512 (nospd_simd.h): its row sums and 3x3
+   products are plain loops that widen with the target, about 10% faster
+   on CPUs that have the wider units */
 
 namespace {
 
@@ -482,8 +471,9 @@ void PairPeriNospdHS::stabilization_pass(int eflag)
   const bool silling = (stab == NOSPD::Stab::SILLING);
   grow_work();
   double **mom = eflag ? moments : nullptr;
+  positions = fix_bonds->padded_positions();
   for_ranges(atom->nlocal, true, [&](int from, int to, int, Tally &) {
-    fix_bonds->compute_deformation(mom, from, to);
+    fix_bonds->compute_deformation(positions, mom, from, to);
   });
   const int nlocal = atom->nlocal;
   const int *type = atom->type;
@@ -499,10 +489,10 @@ void PairPeriNospdHS::stabilization_pass(int eflag)
     stab_atom[i] = s;
     if (!silling) {
       NOSPD::store(Mat3::Zero(), bmat[i]);
-      NOSPD::store(H, tmat[i]);
+      store_transposed(H, tmat[i]);
       continue;
     }
-    NOSPD::store(Mat3(-s * H), bmat[i]);
+    store_transposed(Mat3(-s * H), bmat[i]);
     if (eflag) {
       // 1/2 s sum_j w |z|^2
       stab_energy[i] = 0.5 * s * nonaffine_moment(i, H, NOSPD::load(fix_bonds->kinv[i])).trace();

@@ -1,0 +1,255 @@
+/* ----------------------------------------------------------------------
+   PERI-NOSPD: unit tests of the classical style's bond sums
+   (nospd_bond_sums.h), SIMD reductions over a point's bond list, on an
+   irregular cloud with uneven weights, without LAMMPS.
+
+   - Pass 1 under an affine displacement U = H xi: N = H K, sum w U =
+     H sum w xi and sum w U (x) U = H K H^T (K = sum w xi (x) xi summed
+     here bond by bond), to round-off.
+   B and T are stored transposed (B^T row-major), as the style keeps them.
+   - Pass 2: the per-bond force with the i-terms (the virial path) equals
+     the sum without them plus B_i sum w xi and the stabilization's
+     i-term; both equal a bond-by-bond sum written out here; the hourglass
+     term vanishes for an affine field and stays finite on a collapsed bond.
+------------------------------------------------------------------------- */
+
+#include "nospd_bond_sums.h"
+#include "nospd_simd.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <vector>
+
+using namespace NOSPD;
+
+namespace {
+
+// through the same per-target copies as the plugin's passes
+template <bool MOMENTS>
+NOSPD_KERNEL_CLONES void deformation(const Positions &p, const BondList &bl, int i, double *N,
+                                     double *s, double *m)
+{
+  deformation_sums<MOMENTS>(p, bl, i, N, s, m);
+}
+template <int STAB, int VIRIAL>
+NOSPD_KERNEL_CLONES void forces(const Positions &p, const BondList &bl, const ForceTerms &ft,
+                                int i, double *f, double *v)
+{
+  force_sums<STAB, VIRIAL>(p, bl, ft, i, f, v);
+}
+
+struct Cloud {
+  std::vector<double> x, x0, w, B, T, sc;
+  std::vector<int> j;
+  int n = 0;
+};
+
+// point 0 at the origin, n - 1 partners scattered in a ball of radius 3
+Cloud make_cloud(int n, unsigned seed)
+{
+  std::mt19937 gen(seed);
+  std::uniform_real_distribution<double> u(-1.0, 1.0), pos(0.2, 1.5);
+  Cloud c;
+  c.n = n;
+  c.x0.assign(3 * n, 0.0);
+  for (int a = 1; a < n; a++) {
+    double r2;
+    do {
+      for (int d = 0; d < 3; d++) c.x0[3 * a + d] = 3.0 * u(gen);
+      r2 = c.x0[3 * a] * c.x0[3 * a] + c.x0[3 * a + 1] * c.x0[3 * a + 1] +
+          c.x0[3 * a + 2] * c.x0[3 * a + 2];
+    } while (r2 > 9.0 || r2 < 0.01);
+    c.j.push_back(a);
+    c.w.push_back(pos(gen));
+  }
+  // the layout the sums load: one readable double past the last atom
+  // (NaN here: it must never reach a result)
+  c.x0.push_back(std::nan(""));
+  c.x = c.x0;
+  c.B.resize(9 * n + 1);
+  c.T.resize(9 * n + 1);
+  c.sc.resize(n);
+  for (auto &v : c.B) v = u(gen);
+  for (auto &v : c.T) v = u(gen);
+  c.B.back() = c.T.back() = std::nan("");
+  for (auto &v : c.sc) v = pos(gen);
+  return c;
+}
+
+double rel_diff(const double *a, const double *b, int n)
+{
+  double d = 0.0, s = 0.0;
+  for (int k = 0; k < n; k++) {
+    d = std::max(d, std::abs(a[k] - b[k]));
+    s = std::max(s, std::abs(b[k]));
+  }
+  return d / std::max(s, 1.0e-300);
+}
+
+}    // namespace
+
+TEST(BondSums, AffineDisplacementGivesHK)
+{
+  Cloud c = make_cloud(97, 7);
+  const double H[9] = {0.01, -0.003, 0.002, 0.004, -0.02, 0.001, -0.005, 0.003, 0.015};
+  // a rigid shift as well: U must not see it
+  for (int a = 0; a < c.n; a++)
+    for (int r = 0; r < 3; r++) {
+      double hx = 0.0;
+      for (int k = 0; k < 3; k++) hx += H[3 * r + k] * c.x0[3 * a + k];
+      c.x[3 * a + r] = c.x0[3 * a + r] + hx + 0.7;
+    }
+  double K[9] = {0}, m0[3] = {0};
+  for (size_t b = 0; b < c.j.size(); b++) {
+    const double *e = &c.x0[3 * c.j[b]];
+    for (int r = 0; r < 3; r++) {
+      m0[r] += c.w[b] * e[r];
+      for (int k = 0; k < 3; k++) K[3 * r + k] += c.w[b] * e[r] * e[k];
+    }
+  }
+  double HK[9] = {0}, Hm[3] = {0}, HKHt[9] = {0};
+  for (int r = 0; r < 3; r++)
+    for (int k = 0; k < 3; k++) {
+      Hm[r] += H[3 * r + k] * m0[k];
+      for (int l = 0; l < 3; l++) HK[3 * r + k] += H[3 * r + l] * K[3 * l + k];
+    }
+  for (int r = 0; r < 3; r++)
+    for (int k = 0; k < 3; k++)
+      for (int l = 0; l < 3; l++) HKHt[3 * r + k] += HK[3 * r + l] * H[3 * k + l];
+
+  const Positions p{c.x.data(), c.x0.data()};
+  const BondList bl{c.j.data(), c.w.data(), 0, static_cast<int>(c.j.size())};
+  double N[9], s[3], m[6];
+  deformation<true>(p, bl, 0, N, s, m);
+  EXPECT_LT(rel_diff(N, HK, 9), 1e-10);
+  EXPECT_LT(rel_diff(s, Hm, 3), 1e-10);
+  const double msym[6] = {HKHt[0], HKHt[4], HKHt[8], HKHt[1], HKHt[2], HKHt[5]};
+  EXPECT_LT(rel_diff(m, msym, 6), 1e-10);
+
+  // without the moments the same N and s, bit for bit
+  double N2[9], s2[3];
+  deformation<false>(p, bl, 0, N2, s2, nullptr);
+  for (int k = 0; k < 9; k++) EXPECT_EQ(N2[k], N[k]);
+  for (int k = 0; k < 3; k++) EXPECT_EQ(s2[k], s[k]);
+}
+
+namespace {
+
+// the force on point 0 bond by bond, i-terms included, and its virial
+template <int STAB> void naive_force(const Cloud &c, double *f, double *v)
+{
+  for (int k = 0; k < 3; k++) f[k] = 0.0;
+  for (int k = 0; k < 6; k++) v[k] = 0.0;
+  for (size_t b = 0; b < c.j.size(); b++) {
+    const int j = c.j[b];
+    double e[3], y[3], uu[3];
+    for (int d = 0; d < 3; d++) {
+      e[d] = c.x0[3 * j + d] - c.x0[d];
+      y[d] = c.x[3 * j + d] - c.x[d];
+      uu[d] = y[d] - e[d];
+    }
+    double g[3];
+    for (int r = 0; r < 3; r++) {
+      g[r] = 0.0;
+      for (int k = 0; k < 3; k++) g[r] += (c.B[9 * j + 3 * k + r] + c.B[3 * k + r]) * e[k];
+      if (STAB == 1) g[r] += (c.sc[0] + c.sc[j]) * uu[r];
+      if (STAB == 3)
+        for (int k = 0; k < 3; k++) g[r] += (c.T[9 * j + 3 * k + r] + c.T[3 * k + r]) * uu[k];
+    }
+    if (STAB == 2) {
+      double z[3], ry2 = 0.0, re = 0.0, zy = 0.0;
+      for (int r = 0; r < 3; r++) {
+        double hi = 0.0, hj = 0.0;
+        for (int k = 0; k < 3; k++) {
+          hi += c.T[3 * k + r] * e[k];
+          hj += c.T[9 * j + 3 * k + r] * e[k];
+        }
+        z[r] = c.sc[0] * (uu[r] - hi) + c.sc[j] * (uu[r] - hj);
+        ry2 += y[r] * y[r];
+        re += e[r] * e[r];
+      }
+      for (int r = 0; r < 3; r++) zy += z[r] * y[r];
+      if (ry2 > 0.0)
+        for (int r = 0; r < 3; r++) g[r] += zy / (ry2 * std::sqrt(re)) * y[r];
+    }
+    const double w = c.w[b];
+    for (int r = 0; r < 3; r++) f[r] += w * g[r];
+    const int vr[6] = {0, 1, 2, 0, 0, 1}, vc[6] = {0, 1, 2, 1, 2, 2};
+    for (int k = 0; k < 6; k++) v[k] += -0.5 * w * y[vr[k]] * g[vc[k]];
+  }
+}
+
+template <int STAB> void check_force_paths(unsigned seed)
+{
+  Cloud c = make_cloud(123, seed);
+  std::mt19937 gen(seed + 1);
+  std::uniform_real_distribution<double> u(-0.05, 0.05);
+  for (auto &v : c.x) v += u(gen);
+  const Positions p{c.x.data(), c.x0.data()};
+  const BondList bl{c.j.data(), c.w.data(), 0, static_cast<int>(c.j.size())};
+  const ForceTerms ft{c.B.data(), c.T.data(), c.sc.data()};
+
+  double fv[3], v[6], f[3], fref[3], vref[6];
+  forces<STAB, 1>(p, bl, ft, 0, fv, v);
+  forces<STAB, 0>(p, bl, ft, 0, f, nullptr);
+  naive_force<STAB>(c, fref, vref);
+  EXPECT_LT(rel_diff(fv, fref, 3), 1e-12) << "STAB " << STAB;
+  EXPECT_LT(rel_diff(v, vref, 6), 1e-12) << "STAB " << STAB;
+
+  if (STAB == 2) return;    // the hourglass term has no factored i-term
+  // the i-terms the caller adds from the moments
+  double mx[3] = {0, 0, 0}, mu[3] = {0, 0, 0};
+  for (size_t b = 0; b < c.j.size(); b++)
+    for (int d = 0; d < 3; d++) {
+      mx[d] += c.w[b] * (c.x0[3 * c.j[b] + d] - c.x0[d]);
+      mu[d] += c.w[b] * ((c.x[3 * c.j[b] + d] - c.x[d]) - (c.x0[3 * c.j[b] + d] - c.x0[d]));
+    }
+  for (int r = 0; r < 3; r++) {
+    for (int k = 0; k < 3; k++) f[r] += c.B[3 * k + r] * mx[k];
+    if (STAB == 1) f[r] += c.sc[0] * mu[r];
+    if (STAB == 3)
+      for (int k = 0; k < 3; k++) f[r] += c.T[3 * k + r] * mu[k];
+  }
+  EXPECT_LT(rel_diff(f, fref, 3), 1e-12) << "STAB " << STAB;
+}
+
+}    // namespace
+
+TEST(BondSums, ForcePathsAgreeNone) { check_force_paths<0>(11); }
+TEST(BondSums, ForcePathsAgreeSilling) { check_force_paths<1>(12); }
+TEST(BondSums, ForcePathsAgreeHourglass) { check_force_paths<2>(13); }
+TEST(BondSums, ForcePathsAgreeWan) { check_force_paths<3>(14); }
+
+TEST(BondSums, HourglassVanishesOnAffineFieldAndCollapsedBond)
+{
+  Cloud c = make_cloud(61, 21);
+  const double H[9] = {0.02, 0.01, 0.0, -0.01, 0.03, 0.005, 0.0, 0.002, -0.01};
+  for (int a = 0; a < c.n; a++) {
+    for (int r = 0; r < 3; r++) {
+      double hx = 0.0;
+      for (int k = 0; k < 3; k++) hx += H[3 * r + k] * c.x0[3 * a + k];
+      c.x[3 * a + r] = c.x0[3 * a + r] + hx;
+    }
+    for (int r = 0; r < 3; r++)
+      for (int k = 0; k < 3; k++) c.T[9 * a + 3 * k + r] = H[3 * r + k];
+  }
+  std::fill(c.B.begin(), c.B.end(), 0.0);
+  const Positions p{c.x.data(), c.x0.data()};
+  const BondList bl{c.j.data(), c.w.data(), 0, static_cast<int>(c.j.size())};
+  const ForceTerms ft{c.B.data(), c.T.data(), c.sc.data()};
+  double f[3], v[6];
+  forces<2, 1>(p, bl, ft, 0, f, v);
+  for (int d = 0; d < 3; d++) EXPECT_LT(std::abs(f[d]), 1e-13);
+
+  // partner 5 pushed onto point 0 (and given another H): that bond has
+  // no direction and takes no term, the rest stay affine, no NaN
+  for (int d = 0; d < 3; d++) c.x[3 * 5 + d] = c.x[d];
+  for (int k = 0; k < 9; k++) c.T[9 * 5 + k] = 0.3;
+  forces<2, 1>(p, bl, ft, 0, f, v);
+  for (int d = 0; d < 3; d++) {
+    EXPECT_TRUE(std::isfinite(f[d]));
+    EXPECT_LT(std::abs(f[d]), 1e-13);
+  }
+}
