@@ -13,12 +13,14 @@
    register; elsewhere the compiler splits it.  A point's sums are the
    same bits run after run and on any rank or thread count on one machine.
 
-   Layout the loads rely on (the fourth lane of every load is never used,
-   but must be readable memory):
+   Layout the loads rely on (the fourth lane of a load is unused unless
+   said otherwise, but must be readable memory):
    - positions: flat, 3 per atom, with at least one double after the last
      atom that is read;
-   - B and T: 9 per atom holding the transpose (B^T row-major = B's
-     columns one after the other), with one double after the last atom.
+   - the pass-2 record of each atom, BREC = 10 doubles: B^T row-major (B's
+     columns one after the other) and the stabilization scalar, which the
+     load of the third column brings in its fourth lane;
+   - T: 9 per atom, T^T likewise, with one double after the last atom.
 ------------------------------------------------------------------------- */
 
 #ifndef NOSPD_BOND_SUMS_H
@@ -55,6 +57,9 @@ namespace simd {
     return load4(cols) * v[0] + load4(cols + 3) * v[1] + load4(cols + 6) * v[2];
   }
 }    // namespace simd
+
+// doubles per atom of the pass-2 record: B^T (9), stabilization scalar
+constexpr int BREC = 10;
 
 // a point's bonds: partner local index and weight omega(|xi|) V_j, entries
 // [from, to) of the per-atom bond arrays
@@ -111,8 +116,8 @@ inline void deformation_sums(const Positions &p, const BondList &bl, int i, doub
    pass 2 at point i, the stabilization STAB as the style numbers it
    (0 none, 1 Silling, 2 hourglass, 3 Wan):
      g = w ((B_j [+ B_i]) xi + stabilization term),  f = sum_j g
-   B: B^T per atom; T: T^T per atom (Wan's S, or the hourglass H = F - I);
-   sc: the per-atom stabilization scalar.  Without VIRIAL the i-terms are
+   B: the BREC records (B^T and the stabilization scalar c); T: T^T per
+   atom (Wan's S, or the hourglass H = F - I).  Without VIRIAL the i-terms are
    left out (the caller adds B_i sum_j w xi and S_i sum_j w U); with it they
    are in g and v collects the bond virial 1/2 (x_i - x_j) (x) g
    (xx yy zz xy xz yz).
@@ -121,7 +126,6 @@ inline void deformation_sums(const Positions &p, const BondList &bl, int i, doub
 struct ForceTerms {
   const double *__restrict B;
   const double *__restrict T;
-  const double *__restrict sc;
 };
 
 template <int STAB, int VIRIAL>
@@ -130,9 +134,9 @@ inline void force_sums(const Positions &p, const BondList &bl, const ForceTerms 
 {
   using namespace simd;
   const v4 x0i = load4(p.x0 + 3 * i), xi = load4(p.x + 3 * i);
-  const double *Bi = ft.B + 9 * i;
+  const double *Bi = ft.B + BREC * i;
   const double *Ti = ft.T + 9 * i;
-  const double si = ft.sc[i];
+  const double si = Bi[9];
   v4 acc{}, v0{}, v1{}, v2{};
   for (int b = bl.from; b < bl.to; b++) {
     const int j = bl.j[b];
@@ -140,16 +144,19 @@ inline void force_sums(const Positions &p, const BondList &bl, const ForceTerms 
     const v4 e = load4(p.x0 + 3 * j) - x0i;
     const v4 y = load4(p.x + 3 * j) - xi;
     const v4 u = y - e;
-    v4 g = matvec(ft.B + 9 * j, e);
+    const double *Bj = ft.B + BREC * j;
+    const v4 col2 = load4(Bj + 6);    // B's third column and c_j
+    v4 g = load4(Bj) * e[0] + load4(Bj + 3) * e[1] + col2 * e[2];
+    const double sj = col2[3];
     if (VIRIAL) g += matvec(Bi, e);
     if (STAB == 1) {
-      g += (VIRIAL ? si + ft.sc[j] : ft.sc[j]) * u;
+      g += (VIRIAL ? si + sj : sj) * u;
     } else if (STAB == 3) {
       g += matvec(ft.T + 9 * j, u);
       if (VIRIAL) g += matvec(Ti, u);
     } else if (STAB == 2) {
       // hourglass: (c_i z_i + c_j z_j).Y / (|Y|^2 |xi|) Y, z = U - H xi
-      const v4 z = si * (u - matvec(Ti, e)) + ft.sc[j] * (u - matvec(ft.T + 9 * j, e));
+      const v4 z = si * (u - matvec(Ti, e)) + sj * (u - matvec(ft.T + 9 * j, e));
       const double ry2 = dot3(y, y);
       // a collapsed bond (Y = 0) has no direction and takes no term
       if (ry2 > 0.0) g += (dot3(z, y) / (ry2 * std::sqrt(dot3(e, e)))) * y;

@@ -55,7 +55,7 @@ PairPeriNospd::PairPeriNospd(LAMMPS *lmp) :
     stab(Stab::SILLING), stab_param(0.5), influence(NospdBondModel::CONSTANT), thickness(1.0),
     singular_tol(1.0e-4), youngs(nullptr), poisson(nullptr), g0(nullptr),
     stab_scalar(nullptr), cut(nullptr), nmax_work(0), bmat(nullptr), tmat(nullptr),
-    moments(nullptr), stab_atom(nullptr), comm_tensors(1)
+    moments(nullptr), comm_tensors(1)
 {
   user_materials = std::make_unique<NospdUserMaterials>(lmp);
   temperature_kind = TEMP_NONE;
@@ -67,7 +67,7 @@ PairPeriNospd::PairPeriNospd(LAMMPS *lmp) :
   one_coeff = 0;
   manybody_flag = 1;
   no_virial_fdotr_compute = 1;
-  comm_forward = 9;
+  comm_forward = NOSPD::BREC;
 }
 
 /* ---------------------------------------------------------------------- */
@@ -78,7 +78,6 @@ PairPeriNospd::~PairPeriNospd()
   memory->destroy(bmat);
   memory->destroy(tmat);
   memory->destroy(moments);
-  memory->destroy(stab_atom);
   memory->destroy(temperature_base);
   if (allocated) {
     memory->destroy(setflag);
@@ -634,7 +633,7 @@ void PairPeriNospd::init_style()
     else if (stab == Stab::HOURGLASS) stab_scalar[i] = stab_param * c;
   }
   comm_tensors = (stab == Stab::WAN || stab == Stab::HOURGLASS) ? 2 : 1;
-  comm_forward = 9 * comm_tensors + 1;
+  comm_forward = NOSPD::BREC + 9 * (comm_tensors - 1);
 
   // inelastic types: history in the bonds fix, a temperature source
   // user materials: formula laws go into lame[i].user, UMATs are opened
@@ -710,14 +709,12 @@ void PairPeriNospd::grow_work()
   memory->destroy(bmat);
   memory->destroy(tmat);
   memory->destroy(moments);
-  memory->destroy(stab_atom);
   memory->destroy(temperature_base);
-  memory->create(stab_atom, nmax_work, "pair:stab_atom");
   memory->create(temperature_base, nmax_work, "pair:temperature_base");
-  // B^T and T^T, with a spare row: the bond sums read a double past the last atom
-  memory->create(bmat, nmax_work + 1, 9, "pair:bmat");
+  // T^T with a spare row: the bond sums read a double past the last atom
+  memory->create(bmat, nmax_work, NOSPD::BREC, "pair:bmat");
   memory->create(tmat, nmax_work + 1, 9, "pair:tmat");
-  memset(bmat[0], 0, sizeof(double) * 9 * (nmax_work + 1));
+  memset(bmat[0], 0, sizeof(double) * NOSPD::BREC * nmax_work);
   memset(tmat[0], 0, sizeof(double) * 9 * (nmax_work + 1));
   memory->create(moments, nmax_work, 6, "pair:moments");
 }
@@ -791,12 +788,11 @@ void PairPeriNospd::constitutive_range(int from, int to, int eflag, Tally &t)
       for (int k = 0; k < nhist; k++) hist_trial[i][k] = hist[i][k];
     if (singular[i]) {
       // no force state of its own: no stress, no stabilization
-      for (int k = 0; k < 9; k++) bmat[i][k] = tmat[i][k] = pk1[i][k] = 0.0;
-      stab_atom[i] = 0.0;
+      for (int k = 0; k < 9; k++) tmat[i][k] = pk1[i][k] = 0.0;
+      for (int k = 0; k < NOSPD::BREC; k++) bmat[i][k] = 0.0;
       wdens[i] = 0.0;
       continue;
     }
-    stab_atom[i] = stab_scalar[itype];
     Mat3 F = NOSPD::load(defgrad[i]);
     const Mat3 H = F - Mat3::Identity();
     const Mat3 Ki = NOSPD::load(kinv[i]);
@@ -818,6 +814,7 @@ void PairPeriNospd::constitutive_range(int from, int to, int eflag, Tally &t)
       store_transposed(H, tmat[i]);
     }
     store_transposed(B, bmat[i]);
+    bmat[i][STAB_SCALAR] = stab_scalar[itype];
 
     if (eflag) {
       double e = W;
@@ -1034,12 +1031,12 @@ NOSPD_KERNEL_CLONES void force_range_kernel(const NOSPD::Positions &p, const int
     NOSPD::force_sums<STAB, VIRIAL>(p, {bj, bw, first[i], first[i + 1]}, ft, i, f, v);
     if (!VIRIAL) {
       // B and T are stored transposed: B(r, k) = Bt[3 k + r]
-      const double *Bt = ft.B + 9 * i;
+      const double *Bt = ft.B + NOSPD::BREC * i;
       const double *m = ximom + 3 * i;
       for (int r = 0; r < 3; r++) f[r] += Bt[r] * m[0] + Bt[3 + r] * m[1] + Bt[6 + r] * m[2];
       const double *u = umom + 3 * i;
       if (STAB == 1) {
-        const double si = ft.sc[i];
+        const double si = Bt[9];    // the stabilization scalar
         for (int r = 0; r < 3; r++) f[r] += si * u[r];
       } else if (STAB == 3) {
         const double *Tt = ft.T + 9 * i;
@@ -1068,7 +1065,7 @@ template <int STAB, int VIRIAL> void PairPeriNospd::force_pass(int /*eflag*/)
 template <int STAB, int VIRIAL> void PairPeriNospd::force_range(int from, int to, Tally &t)
 {
   if (to <= from) return;
-  const NOSPD::ForceTerms ft{bmat[0], tmat[0], stab_atom};
+  const NOSPD::ForceTerms ft{bmat[0], tmat[0]};
   std::vector<double> v(VIRIAL ? 6 * (to - from) : 0);
   force_range_kernel<STAB, VIRIAL>(positions, fix_bonds->bond_first, fix_bonds->bond_j,
                                    fix_bonds->bond_w, ft, fix_bonds->xi_moment[0],
@@ -1091,10 +1088,9 @@ int PairPeriNospd::pack_forward_comm(int n, int *list, double *buf, int /*pbc_fl
   int m = 0;
   for (int ii = 0; ii < n; ii++) {
     const int i = list[ii];
-    for (int k = 0; k < 9; k++) buf[m++] = bmat[i][k];
+    for (int k = 0; k < NOSPD::BREC; k++) buf[m++] = bmat[i][k];
     if (comm_tensors == 2)
       for (int k = 0; k < 9; k++) buf[m++] = tmat[i][k];
-    buf[m++] = stab_atom[i];
   }
   return m;
 }
@@ -1106,10 +1102,9 @@ void PairPeriNospd::unpack_forward_comm(int n, int first, double *buf)
   int m = 0;
   const int last = first + n;
   for (int i = first; i < last; i++) {
-    for (int k = 0; k < 9; k++) bmat[i][k] = buf[m++];
+    for (int k = 0; k < NOSPD::BREC; k++) bmat[i][k] = buf[m++];
     if (comm_tensors == 2)
       for (int k = 0; k < 9; k++) tmat[i][k] = buf[m++];
-    stab_atom[i] = buf[m++];
   }
 }
 

@@ -109,16 +109,17 @@ class PairPeriNospd : public Pair {
   // per atom (owned + ghost), forward-communicated: B = P K^-1 - S H,
   // and S (Wan) or H (hourglass) where the stabilization needs a tensor
   int nmax_work;
-  // per atom: B = P K^-1 - S H and the stabilization's tensor (Wan's S or
-  // the hourglass H), both stored transposed (column by column) with a
-  // spare row, as the bond sums load them (nospd_bond_sums.h)
+  // per atom, as the bond sums load them (nospd_bond_sums.h): bmat holds
+  // B = P K^-1 - S H transposed (column by column) and the stabilization
+  // scalar (0 where K is singular); tmat the stabilization's tensor (Wan's
+  // S or the hourglass H) transposed, with a spare row
   double **bmat, **tmat, **moments;
+  static constexpr int STAB_SCALAR = 9;    // its place in bmat
   NOSPD::Positions positions{};    // this step's padded positions (pass 1 and 2)
   static void store_transposed(const NOSPD::Mat3 &M, double *to)
   {
     NOSPD::store(NOSPD::Mat3(M.transpose()), to);
   }
-  double *stab_atom;   // per-atom stabilization scalar: 0 where K is singular
   int comm_tensors;    // 1 or 2 tensors of 9 in the forward comm
 
   // The energy and virial sums of a pass over a range of owned atoms: one

@@ -480,13 +480,12 @@ void PairPeriNospdHS::stabilization_pass(int eflag)
   if (eflag) stab_energy.assign(nlocal, 0.0);
   for (int i = 0; i < nlocal; i++) {
     if (fix_bonds->singular[i]) {
-      for (int k = 0; k < 9; k++) bmat[i][k] = 0.0;
-      stab_atom[i] = 0.0;
+      for (int k = 0; k < NOSPD::BREC; k++) bmat[i][k] = 0.0;
       continue;
     }
     const double s = stab_scalar[type[i]];
     const Mat3 H = NOSPD::load(fix_bonds->defgrad[i]) - Mat3::Identity();
-    stab_atom[i] = s;
+    bmat[i][STAB_SCALAR] = s;
     if (!silling) {
       NOSPD::store(Mat3::Zero(), bmat[i]);
       store_transposed(H, tmat[i]);

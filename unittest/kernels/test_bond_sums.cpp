@@ -6,7 +6,8 @@
    - Pass 1 under an affine displacement U = H xi: N = H K, sum w U =
      H sum w xi and sum w U (x) U = H K H^T (K = sum w xi (x) xi summed
      here bond by bond), to round-off.
-   B and T are stored transposed (B^T row-major), as the style keeps them.
+   B and T are stored transposed (B^T row-major), B in the BREC records
+   with the stabilization scalar, as the style keeps them.
    - Pass 2: the per-bond force with the i-terms (the virial path) equals
      the sum without them plus B_i sum w xi and the stabilization's
      i-term; both equal a bond-by-bond sum written out here; the hourglass
@@ -41,7 +42,7 @@ NOSPD_KERNEL_CLONES void forces(const Positions &p, const BondList &bl, const Fo
 }
 
 struct Cloud {
-  std::vector<double> x, x0, w, B, T, sc;
+  std::vector<double> x, x0, w, B, T;    // B: BREC records (B^T, c)
   std::vector<int> j;
   int n = 0;
 };
@@ -68,14 +69,18 @@ Cloud make_cloud(int n, unsigned seed)
   // (NaN here: it must never reach a result)
   c.x0.push_back(std::nan(""));
   c.x = c.x0;
-  c.B.resize(9 * n + 1);
+  c.B.resize(BREC * n);
   c.T.resize(9 * n + 1);
-  c.sc.resize(n);
   for (auto &v : c.B) v = u(gen);
   for (auto &v : c.T) v = u(gen);
-  c.B.back() = c.T.back() = std::nan("");
-  for (auto &v : c.sc) v = pos(gen);
+  c.T.back() = std::nan("");
+  for (int a = 0; a < n; a++) c.B[BREC * a + 9] = pos(gen);
   return c;
+}
+
+double sc(const Cloud &c, int a)
+{
+  return c.B[BREC * a + 9];
 }
 
 double rel_diff(const double *a, const double *b, int n)
@@ -153,8 +158,8 @@ template <int STAB> void naive_force(const Cloud &c, double *f, double *v)
     double g[3];
     for (int r = 0; r < 3; r++) {
       g[r] = 0.0;
-      for (int k = 0; k < 3; k++) g[r] += (c.B[9 * j + 3 * k + r] + c.B[3 * k + r]) * e[k];
-      if (STAB == 1) g[r] += (c.sc[0] + c.sc[j]) * uu[r];
+      for (int k = 0; k < 3; k++) g[r] += (c.B[BREC * j + 3 * k + r] + c.B[3 * k + r]) * e[k];
+      if (STAB == 1) g[r] += (sc(c, 0) + sc(c, j)) * uu[r];
       if (STAB == 3)
         for (int k = 0; k < 3; k++) g[r] += (c.T[9 * j + 3 * k + r] + c.T[3 * k + r]) * uu[k];
     }
@@ -166,7 +171,7 @@ template <int STAB> void naive_force(const Cloud &c, double *f, double *v)
           hi += c.T[3 * k + r] * e[k];
           hj += c.T[9 * j + 3 * k + r] * e[k];
         }
-        z[r] = c.sc[0] * (uu[r] - hi) + c.sc[j] * (uu[r] - hj);
+        z[r] = sc(c, 0) * (uu[r] - hi) + sc(c, j) * (uu[r] - hj);
         ry2 += y[r] * y[r];
         re += e[r] * e[r];
       }
@@ -189,7 +194,7 @@ template <int STAB> void check_force_paths(unsigned seed)
   for (auto &v : c.x) v += u(gen);
   const Positions p{c.x.data(), c.x0.data()};
   const BondList bl{c.j.data(), c.w.data(), 0, static_cast<int>(c.j.size())};
-  const ForceTerms ft{c.B.data(), c.T.data(), c.sc.data()};
+  const ForceTerms ft{c.B.data(), c.T.data()};
 
   double fv[3], v[6], f[3], fref[3], vref[6];
   forces<STAB, 1>(p, bl, ft, 0, fv, v);
@@ -208,7 +213,7 @@ template <int STAB> void check_force_paths(unsigned seed)
     }
   for (int r = 0; r < 3; r++) {
     for (int k = 0; k < 3; k++) f[r] += c.B[3 * k + r] * mx[k];
-    if (STAB == 1) f[r] += c.sc[0] * mu[r];
+    if (STAB == 1) f[r] += sc(c, 0) * mu[r];
     if (STAB == 3)
       for (int k = 0; k < 3; k++) f[r] += c.T[3 * k + r] * mu[k];
   }
@@ -235,10 +240,11 @@ TEST(BondSums, HourglassVanishesOnAffineFieldAndCollapsedBond)
     for (int r = 0; r < 3; r++)
       for (int k = 0; k < 3; k++) c.T[9 * a + 3 * k + r] = H[3 * r + k];
   }
-  std::fill(c.B.begin(), c.B.end(), 0.0);
+  for (int a = 0; a < c.n; a++)
+    for (int k = 0; k < 9; k++) c.B[BREC * a + k] = 0.0;
   const Positions p{c.x.data(), c.x0.data()};
   const BondList bl{c.j.data(), c.w.data(), 0, static_cast<int>(c.j.size())};
-  const ForceTerms ft{c.B.data(), c.T.data(), c.sc.data()};
+  const ForceTerms ft{c.B.data(), c.T.data()};
   double f[3], v[6];
   forces<2, 1>(p, bl, ft, 0, f, v);
   for (int d = 0; d < 3; d++) EXPECT_LT(std::abs(f[d]), 1e-13);
