@@ -50,7 +50,7 @@ for m in "${MODELS[@]}"; do
   done
   points=$(grep "Loop time" "$OUT/screen.txt" | tail -1 | awk '{print $(NF-1)}')
   mem=$(awk '/bond and reference state/{print $(NF-1)}' "$OUT/screen.txt" | head -1)
-  # the pair style's per-point work arrays: B, T (9+9), energy moments (6), one scalar
+  # the pair style's per-point work arrays: B with the stabilization scalar (10), T (9), moments (6)
   [ -n "$mem" ] && mem=$((mem + 25 * 8))
   rate=$(awk -v p="$points" -v s="$STEPS" -v t="$best" 'BEGIN{printf "%.4g", p*s/t}')
   [ "$style" = lps ] && [ "$launch" = 1 ] && lps_rate=$rate
