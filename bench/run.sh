@@ -5,7 +5,9 @@
 # Writes bench/results/throughput.csv and prints ratios to peri/lps.  Rows
 # run on one core unless their launch says otherwise: omp2 = one rank with
 # `-sf omp -pk omp 2`, np2 = `mpirun -np 2`, np2rcb = `mpirun -np 2` with
-# tiled communication balanced by recursive bisection.  BENCH_ONLY (an extended regular
+# tiled communication balanced by recursive bisection, d2 = the 2D plane-strain
+# square (`-var dim 2`, BENCH_N2 points per side, default 200; peri/lps has
+# no 2D form, so its ratio is to the 3D block's).  BENCH_ONLY (an extended regular
 # expression) keeps the rows whose launch:style|settings|coeff matches it;
 # peri/lps always runs, for the ratio.
 set -euo pipefail
@@ -28,22 +30,24 @@ declare -a MODELS=("lps|" "pmb|" "nospd|stabilization none" "nospd|stabilization
   "hs|form II strain small|yield 2e6 hardening linear 1e9"
   "hs|form II strain hencky|yield 2e6 hardening linear 1e9"
   "omp2:nospd|stabilization silling 0.5" "np2:nospd|stabilization silling 0.5"
-  "np2:lps|" "omp2:hs|form II" "np2rcb:nospd|stabilization silling 0.5" "np2rcb:lps|")
+  "np2:lps|" "omp2:hs|form II" "np2rcb:nospd|stabilization silling 0.5" "np2rcb:lps|"
+  "d2:nospd|stabilization silling 0.5" "d2:hs|form II")
 lps_rate=""
 for m in "${MODELS[@]}"; do
   if [ -n "${BENCH_ONLY:-}" ] && [ "$m" != "lps|" ] && ! grep -Eq -- "$BENCH_ONLY" <<< "$m"; then continue; fi
   launch=1; [[ "$m" == *:* && "${m%%|*}" == *:* ]] && { launch=${m%%:*}; m=${m#*:}; }
   style=${m%%|*}; rest=${m#*|}; settings=${rest%%|*}; coeff=""
   [ "$rest" != "$settings" ] && coeff=${rest#*|}
-  pre=(); post=(); ranks=1; threads=1
+  pre=(); post=(); ranks=1; threads=1; n=$N
   case $launch in
     omp2) post=(-sf omp -pk omp 2); threads=2 ;;
     np2) pre=(mpirun --allow-run-as-root -np 2); ranks=2 ;;
     np2rcb) pre=(mpirun --allow-run-as-root -np 2); post=(-var rcb yes); ranks=2 ;;
+    d2) post=(-var dim 2); n=${BENCH_N2:-200} ;;
   esac
   best=""
   for r in $(seq "$REPEATS"); do
-    "${pre[@]}" "$LMP" -in "$HERE/in.block" -var n "$N" -var style "$style" -var settings "$settings" \
+    "${pre[@]}" "$LMP" -in "$HERE/in.block" -var n "$n" -var style "$style" -var settings "$settings" \
       -var coeff "$coeff" -var steps "$STEPS" -log none -screen "$OUT/screen.txt" "${post[@]}"
     t=$(grep "Loop time" "$OUT/screen.txt" | tail -1 | awk '{print $4}')
     best=$(awk -v a="${best:-1e30}" -v b="$t" 'BEGIN{print (b<a)?b:a}')
@@ -57,6 +61,7 @@ for m in "${MODELS[@]}"; do
   ratio=$(awk -v a="$rate" -v b="${lps_rate:-0}" 'BEGIN{ if (b>0) printf "%.3g", a/b; else print "" }')
   label="$settings${coeff:+ / $coeff}"
   [ "$launch" = np2rcb ] && label="$label [tiled, rcb]"
+  [ "$launch" = d2 ] && label="$label [2D plane strain]"
   echo "peri/${style},$label,$ranks,$threads,$points,$STEPS,$best,$rate,$ratio,${mem:-}" >> "$CSV"
   [ "$style" = hs ] && style=nospd/hs
   printf "%-10s %-34s %dx%d %9s point-steps/s  x%-6s vs peri/lps  %s B/point\n" "peri/$style" "$label" \
