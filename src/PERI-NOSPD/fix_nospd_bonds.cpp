@@ -24,6 +24,7 @@
 static constexpr int NOSPD_HIST_WORK = NOSPD::Hist::WORK;
 
 #include <algorithm>
+#include <utility>
 #include <cmath>
 #include <cstring>
 #include <numeric>
@@ -1024,9 +1025,13 @@ void FixNospdBonds::post_run()
 void FixNospdBonds::commit_history()
 {
   if (!nhistory || !trial_ready) return;
-  const int nlocal = atom->nlocal;
-  for (int i = 0; i < nlocal; i++)
-    for (int k = 0; k < nhistory; k++) history[i][k] = history_trial[i][k];
+  // the trial rows become the accepted ones by exchanging the two arrays
+  // (same shape, grown together) rather than copying them: a bond-associated
+  // family's history is ~900 values per point.  The rows now in
+  // history_trial are stale until the next force evaluation, which writes
+  // every owned row (the style copies the accepted row first where it
+  // evaluates no return)
+  std::swap(history, history_trial);
   trial_ready = 0;
 }
 
