@@ -1207,7 +1207,9 @@ void PairPeriNospd::read_restart_settings(FILE *fp)
 
 double PairPeriNospd::memory_usage()
 {
-  return (double) nmax_work * (9 + 9 + 6 + 2) * sizeof(double);
+  // bmat (B^T and the stabilization scalar), tmat (with its spare row),
+  // moments, temperature_base
+  return ((double) nmax_work * (NOSPD::BREC + 9 + 6 + 1) + 9) * sizeof(double);
 }
 
 /* ---------------------------------------------------------------------- */
