@@ -24,10 +24,10 @@
 static constexpr int NOSPD_HIST_WORK = NOSPD::Hist::WORK;
 
 #include <algorithm>
-#include <utility>
 #include <cmath>
 #include <cstring>
 #include <numeric>
+#include <utility>
 #include <vector>
 
 using namespace LAMMPS_NS;
