@@ -138,8 +138,11 @@ struct FlowLaw {
     double sr;
     const double f = thermal_factor(T) * rate_factor(rate, sr);
     if (kind == Hardening::LINEAR) return f * (sigma_y0 * d + H * (a_n * d + 0.5 * d * d));
-    const double a1 = a_n + d;
-    return f * (sigma_y0 * d + K / (n + 1.0) * (std::pow(a1, n + 1.0) - std::pow(a_n, n + 1.0)));
+    // (a_n + d)^(n+1) - a_n^(n+1) without the cancellation of a small d
+    const double rise = a_n > 0.0
+        ? std::pow(a_n, n + 1.0) * std::expm1((n + 1.0) * std::log1p(d / a_n))
+        : std::pow(d, n + 1.0);
+    return f * (sigma_y0 * d + K / (n + 1.0) * rise);
   }
 };
 

@@ -224,6 +224,46 @@ TEST(Plasticity, JohnsonCookRateAndTemperature)
   EXPECT_GT(plastic, 40);
 }
 
+/* The plastic work of an increment, int_0^d sigma_y(a_n + s, rate, T) ds,
+   against a fine composite Simpson rule in s (graded towards s = 0, where
+   a power law with a_n = 0 has its kink), for the power law and
+   Johnson-Cook, from increments a millionth of the accumulated strain
+   (where a difference of powers loses its digits) to large ones. */
+TEST(Plasticity, WorkIsFlowStressIntegral)
+{
+  for (int kind = 0; kind < 2; ++kind) {
+    FlowLaw fl;
+    const double rate = 3e4, T = 600.0;
+    double factor = 1.0;
+    if (kind == 0) {
+      fl.active = true;
+      fl.kind = Hardening::POWER;
+      fl.sigma_y0 = 90e6;
+      fl.K = 292e6;
+      fl.n = 0.31;
+    } else {
+      set_johnson_cook(fl, 90e6, 292e6, 0.31, 0.025, 1.09, 298.0, 1356.0);
+      // (1 + C ln(rate/rate0)) (1 - T*^m) written out
+      factor = (1.0 + 0.025 * std::log(rate)) *
+          (1.0 - std::pow((T - 298.0) / (1356.0 - 298.0), 1.09));
+    }
+    for (double a_n : {0.0, 0.05, 1.3})
+      for (double d : {5e-9, 2e-8, 1e-6, 3e-4, 0.02, 5.0}) {
+        auto sigma = [&](double s) { return factor * (90e6 + 292e6 * std::pow(a_n + s, 0.31)); };
+        const int N = 20000;
+        double sum = 0.0;
+        for (int k = 0; k <= N; ++k) {
+          const double t = (double) k / N;    // s = d t^4
+          const double wk = (k == 0 || k == N) ? 1.0 : (k % 2 ? 4.0 : 2.0);
+          sum += wk * sigma(d * std::pow(t, 4)) * 4.0 * d * std::pow(t, 3);
+        }
+        const double ref = sum / (3.0 * N);
+        EXPECT_NEAR(fl.work(a_n, d, rate, T), ref, 1e-10 * ref)
+            << "kind " << kind << " a_n " << a_n << " d " << d;
+      }
+  }
+}
+
 /* The returned P is the gradient of the incremental potential
    W_e(F) + dD(F) at frozen start-of-step history: central differences on
    a general (non-uniaxial) plastic increment, for every flow law. */
