@@ -39,6 +39,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <cstring>
 #include <numeric>
 #include <vector>
 
@@ -49,10 +50,14 @@ enum class HSForm { I = 1, II = 2 };
 struct SumProgram {
   int n = 0;               // inputs: rows 0..n-1 of the work array
   int nrow = 0;            // rows of work the program touches (inputs and temporaries)
-  std::vector<int> code;   // d >= 0, a, b: row d = row a + row b
-                           // -1-j, c, r_1..r_c: output j = sum of rows r_1..r_c
+  // records of four 16-bit fields, read with one 8-byte load:
+  //   d, a, b, 0:    row d = row a + row b
+  //   OUTPUT, j, c, 0, then r_1..r_c padded to a multiple of 4:
+  //                  output j = sum of rows r_1..r_c
+  std::vector<uint16_t> code;
+  static constexpr uint16_t OUTPUT = 0xffff;
   bool ready() const { return !code.empty(); }
-  double bytes() const { return 4.0 * code.size(); }
+  double bytes() const { return 2.0 * code.size(); }
 };
 
 /* Reference data of one family shape.  Slots are the members in
@@ -233,8 +238,7 @@ inline SumProgram build_sum_program(const std::vector<std::vector<int>> &sets, i
   struct {
     int n;
     std::vector<int> temp, code;
-    int nrow;
-  } pg{n, {}, {}, 0};
+  } pg{n, {}, {}};
   std::vector<std::vector<int>> rows = sets;
   const int nrow = (int) rows.size();
   int cap = 4 * n + 16, nterm = n;
@@ -350,18 +354,20 @@ inline SumProgram build_sum_program(const std::vector<std::vector<int>> &sets, i
         release(a);
         release(b);
         made[y] = 1;
-        pg.code.insert(pg.code.end(), {slot[y], sa, sb});
+        pg.code.insert(pg.code.end(), {slot[y], sa, sb, 0});
       }
     }
-    pg.code.push_back(-1 - (int) j);
-    pg.code.push_back((int) rows[j].size());
+    pg.code.insert(pg.code.end(), {(int) SumProgram::OUTPUT, (int) j, (int) rows[j].size(), 0});
     for (int x : rows[j]) pg.code.push_back(slot[x]);
+    while (pg.code.size() % 4) pg.code.push_back(0);
     for (int x : rows[j]) release(x);
   }
   SumProgram out;
   out.n = n;
   out.nrow = nrow_used;
-  out.code.swap(pg.code);
+  // rows and outputs must fit the 16-bit fields (else the runs serve)
+  if (nrow_used >= SumProgram::OUTPUT || (int) rows.size() >= SumProgram::OUTPUT) return out;
+  out.code.assign(pg.code.begin(), pg.code.end());
   return out;
 }
 
@@ -444,22 +450,26 @@ inline void bond_sums(const BondPattern &p, StateScratch &s, double *__restrict 
   };
 
   if (pg.ready()) {
-    const int *c = pg.code.data();
-    const int *end = c + pg.code.size();
+    // index loads, not arithmetic, bound this loop: a record's fields
+    // come in one load
+    const uint16_t *c = pg.code.data();
+    const uint16_t *end = c + pg.code.size();
     while (c < end) {
-      if (c[0] >= 0) {
-        row_sum<RM>(w + RM * c[0], w + RM * c[1], w + RM * c[2]);
-        if (NA) row_sum<L>(side + L * c[0], side + L * c[1], side + L * c[2]);
-        c += 3;
+      uint64_t rec;
+      std::memcpy(&rec, c, sizeof(rec));
+      const unsigned d = rec & 0xffff, a = (rec >> 16) & 0xffff, b = (rec >> 32) & 0xffff;
+      c += 4;
+      if (d != SumProgram::OUTPUT) {
+        row_sum<RM>(w + RM * d, w + RM * a, w + RM * b);
+        if (NA) row_sum<L>(side + L * d, side + L * a, side + L * b);
       } else {
-        const int j = -1 - c[0], m = c[1];
         double acc[RM] = {}, acc_side[L] = {};
-        for (int q = 0; q < m; ++q) {
-          row_add<RM>(acc, w + RM * c[2 + q]);
-          if (NA) row_add<L>(acc_side, side + L * c[2 + q]);
+        for (unsigned q = 0; q < b; ++q) {
+          row_add<RM>(acc, w + RM * c[q]);
+          if (NA) row_add<L>(acc_side, side + L * c[q]);
         }
-        emit(j, acc, acc_side);
-        c += 2 + m;
+        emit(a, acc, acc_side);
+        c += (b + 3) & ~3u;
       }
     }
     return;
