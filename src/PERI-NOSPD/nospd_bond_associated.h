@@ -36,6 +36,7 @@
 #define NOSPD_BOND_ASSOCIATED_H
 
 #include "nospd_constitutive.h"
+#include "nospd_simd.h"
 
 #include <algorithm>
 #include <cstdint>
@@ -66,11 +67,11 @@ struct BondPattern {
   int n = 0;                       // family size
   int dim = 3;
   double radius = 0.0;             // bond-associated horizon r = ratio * delta
-  std::vector<double> b;           // reference offsets xi_k, 3 per slot
+  std::vector<double> b;           // reference offsets xi_k, 3 per slot, one spare double
   std::vector<double> w;           // omega_k V_k
   std::vector<int> run_first;      // runs of slot j: run_first[j] .. run_first[j+1]
   std::vector<uint16_t> runs;      // (first, last + 1) slot pairs
-  std::vector<double> kinv;        // K_j^-1 (zero where singular)
+  std::vector<double> kinv;        // K_j^-1 (zero where singular), and one spare double
   std::vector<double> cforce;      // c_j: beta_j (Form II) or V_h(j)/V_H (Form I)
   std::vector<double> beta;        // V_h(j)/S: weight of bond j in energy and stress
   std::vector<char> singular;      // K_j singular: bond falls back to the family's F
@@ -138,7 +139,7 @@ inline void build_pattern(BondPattern &p, int dim, int n, const double *b_lex,
   p.key = key_lex;
   p.lex_to_slot = boustrophedon(key_lex, n);
   const int nc = dim * dim;
-  p.b.assign(3 * n, 0.0);
+  p.b.assign(3 * n + 1, 0.0);    // + 1: an offset loads as 4 doubles
   p.w.assign(n, 0.0);
   std::vector<double> vol(n);
   for (int l = 0; l < n; ++l) {
@@ -173,7 +174,7 @@ inline void build_pattern(BondPattern &p, int dim, int n, const double *b_lex,
   // bond-associated families: runs of members, K_j, V_h(j)
   const double r2 = radius * radius;
   p.run_first.assign(n + 1, 0);
-  p.kinv.assign(nc * n, 0.0);
+  p.kinv.assign(nc * n + 1, 0.0);    // + 1: a row of K_j^-1 loads as 4 doubles
   p.cforce.assign(n, 0.0);
   p.beta.assign(n, 0.0);
   p.singular.assign(n, 1);
@@ -571,6 +572,38 @@ inline LinearLaw probe_linear_law(Law law, Plane plane, const Lame &m, int dim)
   return lin;
 }
 
+/* One regular bond of a 3D family under the linear law (the hot case):
+   H = N K^-1, P = lambda tr(H) I + mu (H + H^T), G = c P K^-1, row by row
+   on 4-lane vectors (a row of H is N's row times the rows of K^-1).  The
+   rows' fourth lanes carry junk from the load past each row and are
+   never used.  Adds beta H to the rows hm and, with energy, beta W to W;
+   G goes to g (row-major). */
+inline void linear_bond_3d(const double *N, const double *Ki, double lam, double mu, double c,
+                           double beta, bool energy, simd::v4 hm[3], double &W, double *g)
+{
+  using namespace simd;
+  const v4 k0 = load4(Ki), k1 = load4(Ki + 3), k2 = load4(Ki + 6);
+  const v4 h0 = N[0] * k0 + N[1] * k1 + N[2] * k2;
+  const v4 h1 = N[3] * k0 + N[4] * k1 + N[5] * k2;
+  const v4 h2 = N[6] * k0 + N[7] * k1 + N[8] * k2;
+  const double ltr = lam * (h0[0] + h1[1] + h2[2]);
+  const v4 p0 = mu * (h0 + v4{h0[0], h1[0], h2[0], 0.0}) + v4{ltr, 0.0, 0.0, 0.0};
+  const v4 p1 = mu * (h1 + v4{h0[1], h1[1], h2[1], 0.0}) + v4{0.0, ltr, 0.0, 0.0};
+  const v4 p2 = mu * (h2 + v4{h0[2], h1[2], h2[2], 0.0}) + v4{0.0, 0.0, ltr, 0.0};
+  if (energy) W += 0.5 * beta * (dot3(p0, h0) + dot3(p1, h1) + dot3(p2, h2));
+  hm[0] += beta * h0;
+  hm[1] += beta * h1;
+  hm[2] += beta * h2;
+  const v4 g0 = c * (p0[0] * k0 + p0[1] * k1 + p0[2] * k2);
+  const v4 g1 = c * (p1[0] * k0 + p1[1] * k1 + p1[2] * k2);
+  const v4 g2 = c * (p2[0] * k0 + p2[1] * k1 + p2[2] * k2);
+  for (int b = 0; b < 3; ++b) {
+    g[b] = g0[b];
+    g[3 + b] = g1[b];
+    g[6 + b] = g2[b];
+  }
+}
+
 /* Outcome of one family evaluation. */
 struct StateOutput {
   Mat3 F;              // deformation gradient of the whole family (output, fallback)
@@ -643,17 +676,43 @@ bool evaluate_families(const BondPattern &p, HSForm form, Law law, Plane plane,
 
   // X_k = w U (x) b into the work rows, and the whole family's sum for its F
   double nall[NC][L] = {};
-  for (int k = 0; k < n; ++k) {
-    const double *bk = &p.b[3 * k];
-    for (int a = 0; a < DIM; ++a)
-      for (int l = 0; l < L; ++l) {
-        const double wu = p.w[k] * in[l].U[3 * k + a];
-        for (int c = 0; c < DIM; ++c) {
-          const double x = wu * bk[c];
-          put(k, a * DIM + c, l, x);
-          nall[a * DIM + c][l] += x;
+  if constexpr (DIM == 3 && L == 1) {
+    // rows w U_a b^T on 4-lane vectors; each row's store spills one junk
+    // value into the next row's first slot, which that row then overwrites
+    using namespace simd;
+    v4 n0{}, n1{}, n2{};
+    const double *U = in[0].U;
+    for (int k = 0; k < n; ++k) {
+      const v4 wb = p.w[k] * load4(&p.b[3 * k]);
+      const v4 x0 = U[3 * k] * wb, x1 = U[3 * k + 1] * wb, x2 = U[3 * k + 2] * wb;
+      double *row = w + RM * k;
+      std::memcpy(row, &x0, sizeof(x0));
+      std::memcpy(row + 3, &x1, sizeof(x1));
+      row[6] = x2[0];
+      row[7] = x2[1];
+      side[k] = x2[2];
+      n0 += x0;
+      n1 += x1;
+      n2 += x2;
+    }
+    for (int c = 0; c < 3; ++c) {
+      nall[c][0] = n0[c];
+      nall[3 + c][0] = n1[c];
+      nall[6 + c][0] = n2[c];
+    }
+  } else {
+    for (int k = 0; k < n; ++k) {
+      const double *bk = &p.b[3 * k];
+      for (int a = 0; a < DIM; ++a)
+        for (int l = 0; l < L; ++l) {
+          const double wu = p.w[k] * in[l].U[3 * k + a];
+          for (int c = 0; c < DIM; ++c) {
+            const double x = wu * bk[c];
+            put(k, a * DIM + c, l, x);
+            nall[a * DIM + c][l] += x;
+          }
         }
-      }
+    }
   }
   double hfam[NC][L];
   for (int l = 0; l < L; ++l) {
@@ -670,6 +729,7 @@ bool evaluate_families(const BondPattern &p, HSForm form, Law law, Plane plane,
   // straight into the work rows of the second sum
   double cs_force = 0.0, cs_beta = 0.0;
   double hmean[NC][L] = {};    // linear law: sum_j beta_j H_j
+  simd::v4 hm[3] = {};          // its rows, for the 3D one-lane linear bonds
   for (int j = 0; j < n; ++j) {
     double g[NC][L];
     if (p.singular[j]) {
@@ -678,6 +738,9 @@ bool evaluate_families(const BondPattern &p, HSForm form, Law law, Plane plane,
       cs_force += p.cforce[j];
       cs_beta += p.beta[j];
       for (int l = 0; l < L; ++l) out[l].fallback++;
+    } else if (DIM == 3 && L == 1 && linear) {
+      linear_bond_3d(sums + NC * j, &p.kinv[NC * j], lam[0], mu[0], p.cforce[j], p.beta[j],
+                     energy, hm, out[0].W, &g[0][0]);
     } else {
       const double *N = sums + NC * L * j;    // [c][l]
       const double *Ki = &p.kinv[NC * j];
@@ -737,6 +800,12 @@ bool evaluate_families(const BondPattern &p, HSForm form, Law law, Plane plane,
         if (form == HSForm::II) put(j, c, l, g[c][l]);
         else gI[NC * L * j + L * c + l] = g[c][l];
       }
+  }
+
+  if constexpr (DIM == 3 && L == 1) {
+    if (linear)
+      for (int a = 0; a < 3; ++a)
+        for (int b = 0; b < 3; ++b) hmean[3 * a + b][0] += hm[a][b];
   }
 
   // singular bond families: the family's F, P(F) K^-1 over the whole family
