@@ -459,7 +459,8 @@ inline void bond_sums(const BondPattern &p, StateScratch &s, double *__restrict 
 
   if (pg.ready()) {
     // index loads, not arithmetic, bound this loop: a record's fields
-    // come in one load
+    // come in one load (the first field in the low bits)
+    static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__, "records are read little-endian");
     const uint16_t *c = pg.code.data();
     const uint16_t *end = c + pg.code.size();
     while (c < end) {
