@@ -43,11 +43,28 @@ namespace simd {
   {
     return v4{a, a, a, a};
   }
+  // the sum of the first three lanes
+  inline __attribute__((always_inline)) double sum3(v4 p)
+  {
+    return p[0] + p[1] + p[2];
+  }
   // the 3-vector dot product of the first three lanes
   inline __attribute__((always_inline)) double dot3(v4 a, v4 b)
   {
-    const v4 p = a * b;
-    return p[0] + p[1] + p[2];
+    return sum3(a * b);
+  }
+  // the sums of the first three lanes of four vectors, one per lane, each
+  // added as dot3 adds (so sum3x4(a0 * b0, ...)[k] == dot3(a_k, b_k))
+  inline __attribute__((always_inline)) v4 sum3x4(v4 p0, v4 p1, v4 p2, v4 p3)
+  {
+    typedef long long m4 __attribute__((vector_size(32)));
+    const v4 t0 = __builtin_shuffle(p0, p1, m4{0, 4, 2, 6});    // x0 x1 z0 z1
+    const v4 t1 = __builtin_shuffle(p0, p1, m4{1, 5, 3, 7});    // y0 y1 . .
+    const v4 t2 = __builtin_shuffle(p2, p3, m4{0, 4, 2, 6});    // x2 x3 z2 z3
+    const v4 t3 = __builtin_shuffle(p2, p3, m4{1, 5, 3, 7});    // y2 y3 . .
+    const v4 xy = __builtin_shuffle(t0 + t1, t2 + t3, m4{0, 1, 4, 5});
+    const v4 z = __builtin_shuffle(t0, t2, m4{2, 3, 6, 7});
+    return xy + z;
   }
   // M v for M given by its columns c0 c1 c2
   inline __attribute__((always_inline)) v4 matvec(const double *cols, v4 v)

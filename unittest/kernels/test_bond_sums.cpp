@@ -229,7 +229,9 @@ TEST(BondSums, ForcePathsAgreeWan) { check_force_paths<3>(14); }
 
 TEST(BondSums, HourglassVanishesOnAffineFieldAndCollapsedBond)
 {
-  Cloud c = make_cloud(61, 21);
+  // 62 bonds: the hourglass sums take 60 four at a time and the last two
+  // one by one, so both paths meet the affine field and a collapsed bond
+  Cloud c = make_cloud(63, 21);
   const double H[9] = {0.02, 0.01, 0.0, -0.01, 0.03, 0.005, 0.0, 0.002, -0.01};
   for (int a = 0; a < c.n; a++) {
     for (int r = 0; r < 3; r++) {
@@ -245,17 +247,24 @@ TEST(BondSums, HourglassVanishesOnAffineFieldAndCollapsedBond)
   const Positions p{c.x.data(), c.x0.data()};
   const BondList bl{c.j.data(), c.w.data(), 0, static_cast<int>(c.j.size())};
   const ForceTerms ft{c.B.data(), c.T.data()};
-  double f[3], v[6];
+  double f[3], v[6], f0[3];
   forces<2, 1>(p, bl, ft, 0, f, v);
+  forces<2, 0>(p, bl, ft, 0, f0, nullptr);
   for (int d = 0; d < 3; d++) EXPECT_LT(std::abs(f[d]), 1e-13);
+  for (int d = 0; d < 3; d++) EXPECT_LT(std::abs(f0[d]), 1e-13);
 
-  // partner 5 pushed onto point 0 (and given another H): that bond has
-  // no direction and takes no term, the rest stay affine, no NaN
-  for (int d = 0; d < 3; d++) c.x[3 * 5 + d] = c.x[d];
-  for (int k = 0; k < 9; k++) c.T[9 * 5 + k] = 0.3;
+  // partners 5 (a bond of the four-at-a-time path) and 62 (the last bond)
+  // pushed onto point 0 and given another H: those bonds have no direction
+  // and take no term, the rest stay affine, no NaN
+  for (int a : {5, 62}) {
+    for (int d = 0; d < 3; d++) c.x[3 * a + d] = c.x[d];
+    for (int k = 0; k < 9; k++) c.T[9 * a + k] = 0.3;
+  }
   forces<2, 1>(p, bl, ft, 0, f, v);
+  forces<2, 0>(p, bl, ft, 0, f0, nullptr);
   for (int d = 0; d < 3; d++) {
-    EXPECT_TRUE(std::isfinite(f[d]));
+    EXPECT_TRUE(std::isfinite(f[d]) && std::isfinite(f0[d]));
     EXPECT_LT(std::abs(f[d]), 1e-13);
+    EXPECT_LT(std::abs(f0[d]), 1e-13);
   }
 }
