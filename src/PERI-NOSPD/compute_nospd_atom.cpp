@@ -56,10 +56,11 @@ ComputeNospdAtom::ComputeNospdAtom(LAMMPS *lmp, int narg, char **arg) :
     else if (k == "yield") quantities.push_back(YIELDING);
     else if (k == "plastic_work") quantities.push_back(PLASTIC_WORK);
     else if (k == "jc_damage") quantities.push_back(JC_DAMAGE);
+    else if (k == "strain_rate") quantities.push_back(STRAIN_RATE);
     else
       error->all(FLERR, "compute {}: unknown quantity '{}' (F, strain, stress, vonmises, energy, "
                  "zem, singular, eqps, plastic_strain, back_stress, temperature, yield, "
-                 "plastic_work, jc_damage)", style, k);
+                 "plastic_work, jc_damage, strain_rate)", style, k);
   }
   if (quantities.empty()) quantities = {DEFGRAD, STRAIN, STRESS, VONMISES, ENERGY, ZEM, SINGULAR};
 
@@ -161,6 +162,7 @@ int ComputeNospdAtom::history_columns(int i, int q, double *row, int c) const
     case YIELDING: row[c] = h[H::YIELDING]; break;
     case PLASTIC_WORK: row[c] = h[H::WORK]; break;
     case JC_DAMAGE: row[c] = h[H::DAMAGE]; break;
+    case STRAIN_RATE: row[c] = h[H::RATE]; break;
     case TEMPERATURE: row[c] = pair->temperature(i); break;
     case BACK_STRESS:
       for (int k = 0; k < 6; k++) row[c + k] = h[H::BACK + k];

@@ -35,7 +35,8 @@ class ComputeNospdAtom : public Compute {
  private:
   enum Quantity {
     DEFGRAD, STRAIN, STRESS, VONMISES, ENERGY, ZEM, SINGULAR,
-    EQPS, PLASTIC_STRAIN, BACK_STRESS, TEMPERATURE, YIELDING, PLASTIC_WORK, JC_DAMAGE
+    EQPS, PLASTIC_STRAIN, BACK_STRESS, TEMPERATURE, YIELDING, PLASTIC_WORK, JC_DAMAGE,
+    STRAIN_RATE
   };
   std::vector<int> quantities;
   int nmax;

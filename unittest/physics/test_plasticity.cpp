@@ -309,6 +309,38 @@ TEST_P(Inelastic, TrialEvaluationsDoNotAccumulate)
   EXPECT_GT(amax, 1e-3);
 }
 
+// compute nospd/atom strain_rate is the rate of the last accepted step that
+// the Johnson-Cook term uses: a simple shear at the steady rate g gives
+// sqrt(2/3) |dev D| = g / sqrt(3) at every point, surfaces included, for
+// both kinematics (for a simple shear dF F^-1 = dF); one step more at
+// twice the rate doubles it (the last step's rate, not a mean).
+TEST_P(Inelastic, StrainRateOfSteadyShear)
+{
+  const double g = 250.0, dt = 1e-6;
+  for (const char *kinematics : {"strain small", "strain hencky"}) {
+    delete lmp;
+    lmp = open_lammps();
+    block(kinematics, "johnson_cook 300e6 200e6 0.3 0.02 1.0 1.0 293 1700", 7);
+    cmd(lmp, "compute s all nospd/atom strain_rate eqps");
+    cmd(lmp, "timestep " + num(dt));
+    cmd(lmp, "run 0");
+    NOSPD::Mat3 F = NOSPD::Mat3::Identity();
+    for (int k = 1; k <= 3; k++) {
+      F(0, 1) = k * g * dt;
+      place_affine(lmp, F, NOSPD::Vec3(0.003, 0.003, 0.003));
+      cmd(lmp, "run 1");    // no integrator: the atoms stay, the step is accepted
+    }
+    const auto rate = peratom(lmp, "s", 0);
+    for (double r : rate) EXPECT_NEAR(r, g / std::sqrt(3.0), 1e-6 * g) << kinematics;
+    for (double a : peratom(lmp, "s", 1)) EXPECT_EQ(a, 0.0) << "elastic: " << kinematics;
+    F(0, 1) += 2.0 * g * dt;
+    place_affine(lmp, F, NOSPD::Vec3(0.003, 0.003, 0.003));
+    cmd(lmp, "run 1");
+    for (double r : peratom(lmp, "s", 0))
+      EXPECT_NEAR(r, 2.0 * g / std::sqrt(3.0), 2e-6 * g) << kinematics;
+  }
+}
+
 // minimize is one load step: its line-search evaluations accept nothing,
 // its converged state is accepted at its end.  A periodic body strained
 // past yield and perturbed relaxes back to the uniform state; its plastic
