@@ -10,9 +10,12 @@
      P = sigma (the package's small-strain convention);
    - HENCKY: multiplicative F = F_e F_th F_p with a logarithmic elastic
      strain (Simo 1992; de Souza Neto, Peric & Owen 2008, ch. 14).  The
-     return runs in the principal frame of the trial elastic left
-     Cauchy-Green tensor b_e = F C_p^-1 F^T, so the model is objective by
-     construction and reduces to the Hencky hyperelastic law while elastic.
+     return acts on e = ln V_e of the trial elastic left Cauchy-Green
+     tensor b_e = F C_p^-1 F^T, coaxial with it, so the model is objective
+     by construction and reduces to the Hencky hyperelastic law while
+     elastic.  ln b_e and exp come from their series where b_e is near
+     isotropic (log_spd_near_isotropic: a metal's elastic distortion; a
+     third of the cost of an eigen-solve), else from b_e's eigenpairs.
 
    The return is backward Euler; the flow stress of the increment is
    sigma_y(a_n + da, rate_n, T_n): temperature and history of the last
@@ -289,31 +292,53 @@ inline ReturnStatus point_core(Law law, const Lame &m, const FlowLaw &fl, const 
     return ReturnStatus::OK;
   }
 
-  // HENCKY: trial b_e = F C_p^-1 F^T in its principal frame
+  // HENCKY: trial b_e = F C_p^-1 F^T; e = ln V_e - ln(1 + alpha dT) I
   const double J = F.determinant();
   if (!(J > 0.0) || !F.allFinite()) return ReturnStatus::BAD_DEFORMATION;
   const Mat3 Cpinv = I + load_sym(hn + Hist::PLASTIC);
-  const Mat3 be = F * Cpinv * F.transpose();
-  Eigen::SelfAdjointEigenSolver<Mat3> eig(0.5 * (be + be.transpose()));
+  Mat3 be = F * Cpinv * F.transpose();
+  be = 0.5 * (be + be.transpose()).eval();
+  const double lth = std::log1p(eth);    // log of the thermal stretch 1 + alpha dT
+  const Mat3 Finv = F.inverse();
+  Mat3 lnb, tau, dep;
+  if (log_spd_near_isotropic(be, lnb)) {
+    // near-isotropic b_e (any metal's elastic distortion): e, tau and the
+    // new b_e as tensors, coaxial with b_e, no eigenvectors needed
+    Mat3 e = 0.5 * lnb - lth * I;
+    if (!return_map(m, fl, th, env, hn, h1, e, tau, dep, W, W_trial))
+      return ReturnStatus::NO_CONVERGENCE;
+    P = tau * Finv.transpose();
+    if (fl.active && h1[Hist::YIELDING] > 0.0) {
+      // b_e = exp(2 (e + ln(1 + alpha dT) I)), its volumetric factor apart
+      const double v = 2.0 * (e.trace() / 3.0 + lth);
+      const Mat3 D = 2.0 * e - (2.0 * e.trace() / 3.0) * I;
+      Mat3 be1;
+      if (!exp_sym_small(D, be1)) {
+        Eigen::SelfAdjointEigenSolver<Mat3> d(D);
+        Vec3 x = d.eigenvalues();
+        for (int a = 0; a < 3; ++a) x(a) = std::exp(x(a));
+        be1 = d.eigenvectors() * x.asDiagonal() * d.eigenvectors().transpose();
+      }
+      store_sym(std::exp(v) * (Finv * be1 * Finv.transpose()) - I, h1 + Hist::PLASTIC);
+    }
+    return P.allFinite() ? ReturnStatus::OK : ReturnStatus::BAD_DEFORMATION;
+  }
+  // otherwise in b_e's principal frame, where e and tau stay diagonal
+  Eigen::SelfAdjointEigenSolver<Mat3> eig(be);
   if (eig.info() != Eigen::Success) return ReturnStatus::BAD_DEFORMATION;
   const Vec3 lam2 = eig.eigenvalues();
   if (!(lam2.minCoeff() > 0.0)) return ReturnStatus::BAD_DEFORMATION;
   const Mat3 &Nv = eig.eigenvectors();
-  const double lth = std::log1p(eth);    // log of the thermal stretch 1 + alpha dT
   Mat3 e = Mat3::Zero();
   for (int a = 0; a < 3; ++a) e(a, a) = 0.5 * std::log(lam2(a)) - lth;
-  Mat3 tau, dep;
   if (!return_map(m, fl, th, env, hn, h1, e, tau, dep, W, W_trial))
     return ReturnStatus::NO_CONVERGENCE;
-  // tau and e stay diagonal in the principal frame (the flow is coaxial)
   Mat3 tau_s = Mat3::Zero(), be1 = Mat3::Zero();
   for (int a = 0; a < 3; ++a) {
     tau_s(a, a) = tau(a, a);
     be1(a, a) = std::exp(2.0 * (e(a, a) + lth));
   }
-  const Mat3 tau_g = Nv * tau_s * Nv.transpose();
-  const Mat3 Finv = F.inverse();
-  P = tau_g * Finv.transpose();
+  P = (Nv * tau_s * Nv.transpose()) * Finv.transpose();
   if (fl.active && h1[Hist::YIELDING] > 0.0) {
     const Mat3 be1_g = Nv * be1 * Nv.transpose();
     store_sym(Finv * be1_g * Finv.transpose() - I, h1 + Hist::PLASTIC);

@@ -31,6 +31,7 @@ struct Point {
   ThermalLaw th;
   PointEnv env;
   std::vector<double> h = std::vector<double>(Hist::SIZE, 0.0);
+  double eth = 0.0;    // the thermal strain uniaxial() adds to its path
 
   // one increment to F; the history is committed when commit is set
   Mat3 step(const Mat3 &F, double &W, bool commit = true)
@@ -64,6 +65,13 @@ Mat3 stress_measure(Law law, const Mat3 &F, const Mat3 &P)
   return law == Law::SMALL ? P : Mat3(P * F.transpose());
 }
 
+// F of the mechanical strains of F0 plus the point's thermal strain eth:
+// eps + eth I (SMALL), a stretch 1 + eth, ln(1 + eth) in log strain (HENCKY)
+Mat3 heated(const Point &pt, const Mat3 &F0)
+{
+  return pt.law == Law::SMALL ? Mat3(F0 + pt.eth * Mat3::Identity()) : Mat3((1.0 + pt.eth) * F0);
+}
+
 /* Uniaxial stress at axial strain e1: the lateral strain is solved so that
    the lateral stress vanishes (secant; the lateral stress is piecewise
    linear in it, so a few steps are exact), then the step is committed. */
@@ -71,7 +79,7 @@ double uniaxial(Point &pt, double e1, double &e2)
 {
   auto lateral = [&](double x) {
     double W;
-    const Mat3 F = axial_F(pt.law, e1, x);
+    const Mat3 F = heated(pt, axial_F(pt.law, e1, x));
     return stress_measure(pt.law, F, pt.step(F, W, false))(1, 1);
   };
   double x0 = e2, x1 = e2 - 1e-4 * (std::abs(e1) + 1e-6);
@@ -85,7 +93,7 @@ double uniaxial(Point &pt, double e1, double &e2)
   }
   e2 = x1;
   double W;
-  const Mat3 F = axial_F(pt.law, e1, e2);
+  const Mat3 F = heated(pt, axial_F(pt.law, e1, e2));
   return stress_measure(pt.law, F, pt.step(F, W))(0, 0);
 }
 
@@ -108,13 +116,13 @@ void set_johnson_cook(FlowLaw &fl, double A, double B, double n, double C, doubl
 // The closed-form uniaxial J2 curve for linear isotropic (H) and kinematic
 // (Hk) hardening along a strain path, as a small state machine.
 struct UniaxialCurve {
-  double H, Hk;
+  double H, Hk, sy;
   double eps_p = 0.0, alpha = 0.0, back = 0.0;    // axial plastic strain, eqps, axial back stress
   double stress(double eps)
   {
     const double trial = E * (eps - eps_p);
     const double xi = trial - back;
-    const double f = std::abs(xi) - (SY + H * alpha);
+    const double f = std::abs(xi) - (sy + H * alpha);
     if (f <= 0.0) return trial;
     const double d = f / (E + H + Hk);
     const double sgn = xi > 0.0 ? 1.0 : -1.0;
@@ -125,16 +133,23 @@ struct UniaxialCurve {
   }
 };
 
-void check_uniaxial_curve(Law law, double H, double Hk)
+void check_uniaxial_curve(Law law, double H, double Hk, double sy = SY, double dT = 0.0)
 {
   Point pt(law);
+  if (dT != 0.0) {
+    // heated by dT: the mechanical strain follows the same curve
+    pt.th.alpha = 1.2e-5;
+    pt.th.T_ref = 293.0;
+    pt.env.T_base = 293.0 + dT;
+    pt.eth = 1.2e-5 * dT;
+  }
   pt.fl.active = true;
   pt.fl.kind = Hardening::LINEAR;
-  pt.fl.sigma_y0 = SY;
+  pt.fl.sigma_y0 = sy;
   pt.fl.H = H;
   pt.fl.Hkin = Hk;
-  UniaxialCurve ref{H, Hk};
-  const double ey = SY / E;
+  UniaxialCurve ref{H, Hk, sy};
+  const double ey = sy / E;
   // load to 4 ey, unload and reverse to -4 ey, reload to 6 ey
   std::vector<double> path;
   for (int k = 1; k <= 40; ++k) path.push_back(0.1 * k * ey);
@@ -145,7 +160,7 @@ void check_uniaxial_curve(Law law, double H, double Hk)
   for (double e1 : path) {
     const double s = uniaxial(pt, e1, e2);
     const double r = ref.stress(e1);
-    worst = std::max(worst, std::abs(s - r) / SY);
+    worst = std::max(worst, std::abs(s - r) / sy);
     if (e1 < 0.0 && pt.h[Hist::YIELDING] > 0.0) yielded_back = true;
   }
   EXPECT_LT(worst, 1e-10) << "uniaxial curve, H = " << H << ", Hk = " << Hk;
@@ -159,6 +174,88 @@ TEST(Plasticity, UniaxialMixedSmall) { check_uniaxial_curve(Law::SMALL, 1.0e9, 3
 TEST(Plasticity, UniaxialPerfectlyPlasticSmall) { check_uniaxial_curve(Law::SMALL, 0.0, 0.0); }
 // in log strain and Kirchhoff stress the finite-strain return is the same curve
 TEST(Plasticity, UniaxialLinearIsotropicHencky) { check_uniaxial_curve(Law::HENCKY, 2.0e9, 0.0); }
+// the same with elastic log strains of 0.06 (yield at E/16): b_e is then too
+// far from isotropic for the series of ln b_e, and the return runs in b_e's
+// principal frame once the load passes about half the yield strain
+TEST(Plasticity, UniaxialLinearIsotropicHenckyLargeElasticStrain)
+{
+  check_uniaxial_curve(Law::HENCKY, 2.0e9, 0.0, E / 16.0);
+}
+
+// at 200 K above the reference temperature, the path shifted by the thermal
+// strain: the same curve (linear hardening has no thermal softening), so
+// the plastic state a yielding step stores holds no thermal part
+TEST(Plasticity, UniaxialCurveHeated)
+{
+  for (Law law : {Law::SMALL, Law::HENCKY}) check_uniaxial_curve(law, 2.0e9, 0.0, SY, 200.0);
+}
+
+// ln b and exp D by their series against the eigen-decomposition, on
+// near-isotropic tensors of every scale of distortion (exact multiples of
+// the identity and double eigenvalues included); beyond their range
+// (|Y| > 0.05, |D| > 0.1) or for b not positive definite they decline
+TEST(Plasticity, LogAndExpSeriesMatchEigen)
+{
+  std::mt19937 gen(29);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  auto eigen_fn = [](const Mat3 &A, double (*f)(double)) {
+    Eigen::SelfAdjointEigenSolver<Mat3> d(A);
+    Vec3 x = d.eigenvalues();
+    for (int a = 0; a < 3; ++a) x(a) = f(x(a));
+    return Mat3(d.eigenvectors() * x.asDiagonal() * d.eigenvectors().transpose());
+  };
+  auto ln = [](double x) { return std::log(x); };
+  auto ex = [](double x) { return std::exp(x); };
+  int used = 0;
+  for (double amp : {0.0, 1e-9, 1e-5, 1e-3, 1e-2, 0.03}) {
+    for (int t = 0; t < 300; ++t) {
+      Eigen::Quaterniond q(u(gen), u(gen), u(gen), u(gen));
+      q.normalize();
+      const Mat3 R = q.toRotationMatrix();
+      const double s = 1.0 + 0.1 * u(gen);
+      Vec3 lam(1.0 + amp * u(gen), 1.0 + amp * u(gen), 1.0 + amp * u(gen));
+      if (t % 3 == 0) lam(1) = lam(0);    // a double eigenvalue
+      Mat3 b = s * R * lam.asDiagonal() * R.transpose();
+      b = 0.5 * (b + b.transpose()).eval();
+      Mat3 L;
+      ASSERT_TRUE(log_spd_near_isotropic(b, L)) << "amp " << amp;
+      EXPECT_LT((L - eigen_fn(b, ln)).cwiseAbs().maxCoeff(), 1e-14) << "amp " << amp;
+      const Mat3 D = 2.0 * (L - (L.trace() / 3.0) * Mat3::Identity());
+      Mat3 Ed;
+      ASSERT_TRUE(exp_sym_small(D, Ed)) << "amp " << amp;
+      EXPECT_LT((Ed - eigen_fn(D, ex)).cwiseAbs().maxCoeff(), 1e-14) << "amp " << amp;
+      used++;
+    }
+  }
+  EXPECT_EQ(used, 1800);
+  // near the series' bound |Y| = 0.05, where its high powers count
+  int near_bound = 0;
+  for (int t = 0; t < 2000; ++t) {
+    Eigen::Quaterniond q(u(gen), u(gen), u(gen), u(gen));
+    q.normalize();
+    const Mat3 R = q.toRotationMatrix();
+    const Vec3 lam(1.0 + 0.09 * u(gen), 1.0 + 0.09 * u(gen), 1.0 + 0.09 * u(gen));
+    Mat3 b = R * lam.asDiagonal() * R.transpose();
+    b = 0.5 * (b + b.transpose()).eval();
+    Mat3 L;
+    if (!log_spd_near_isotropic(b, L)) continue;
+    const Mat3 B = b / (b.trace() / 3.0), I = Mat3::Identity();
+    if (((B - I) * (B + I).inverse()).norm() > 0.04) near_bound++;
+    EXPECT_LT((L - eigen_fn(b, ln)).cwiseAbs().maxCoeff(), 1e-14);
+  }
+  EXPECT_GT(near_bound, 50);
+  Mat3 L, Ed;
+  Mat3 far = Mat3::Identity();
+  far(0, 0) = 1.3;
+  EXPECT_FALSE(log_spd_near_isotropic(far, L));
+  Mat3 indefinite = Mat3::Identity();
+  indefinite(2, 2) = -1.0;
+  EXPECT_FALSE(log_spd_near_isotropic(indefinite, L));
+  EXPECT_FALSE(log_spd_near_isotropic(-Mat3::Identity(), L));
+  Mat3 big = Mat3::Zero();
+  big(0, 1) = big(1, 0) = 0.1;
+  EXPECT_FALSE(exp_sym_small(big, Ed));
+}
 
 // Power-law hardening: on the monotonic curve sigma = sigma_y(eqps) and the
 // axial strain splits into sigma/E + eqps.
