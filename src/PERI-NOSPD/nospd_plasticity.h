@@ -101,8 +101,9 @@ struct FlowLaw {
           slope = (n < 1.0) ? 1.0e300 : (n == 1.0 ? K : 0.0);
           return sigma_y0;
         }
-        slope = K * n * std::pow(a, n - 1.0);
-        return sigma_y0 + K * std::pow(a, n);
+        const double an = std::pow(a, n);
+        slope = K * n * an / a;
+        return sigma_y0 + K * an;
     }
     slope = 0.0;
     return sigma_y0;
@@ -186,10 +187,35 @@ namespace detail {
       return std::isfinite(d);
     }
     const double scale = std::max(q, 1.0e-300);
+    // rate and temperature are frozen: their factor once, one power a step
+    double s;
+    const double f = fl.thermal_factor(T) * fl.rate_factor(rate, s);
+    auto flow = [&](double dd, double &slope) {
+      const double a = a_n + dd;
+      double h;
+      if (a > 0.0) {
+        const double an = std::pow(a, fl.n);
+        slope = fl.K * fl.n * an / a;
+        h = fl.sigma_y0 + fl.K * an;
+      } else {
+        h = fl.hardening(a, slope);
+      }
+      slope *= f;
+      return f * h;
+    };
+    // after the first yield, start from the linearization at d = 0 (one
+    // Newton step): the increments of a time step are small, and it lands
+    // close to the root (at a_n = 0 the slope may be infinite: mid-bracket)
     d = 0.5 * hi;
+    if (a_n > 0.0) {
+      double slope0;
+      const double r0 = q - flow(0.0, slope0);
+      const double d0 = r0 / (g3 + slope0);
+      if (d0 > lo && d0 < hi) d = d0;
+    }
     for (int it = 0; it < 200; ++it) {
       double slope;
-      const double r = q - g3 * d - fl.flow(a_n, d, rate, T, slope);
+      const double r = q - g3 * d - flow(d, slope);
       if (std::abs(r) <= 1.0e-14 * scale || (hi - lo) <= 1.0e-16 * hi) return true;
       if (r > 0.0) lo = d;
       else hi = d;
@@ -309,17 +335,14 @@ inline ReturnStatus point_core(Law law, const Lame &m, const FlowLaw &fl, const 
       return ReturnStatus::NO_CONVERGENCE;
     P = tau * Finv.transpose();
     if (fl.active && h1[Hist::YIELDING] > 0.0) {
-      // b_e = exp(2 (e + ln(1 + alpha dT) I)), its volumetric factor apart
-      const double v = 2.0 * (e.trace() / 3.0 + lth);
-      const Mat3 D = 2.0 * e - (2.0 * e.trace() / 3.0) * I;
-      Mat3 be1;
-      if (!exp_sym_small(D, be1)) {
-        Eigen::SelfAdjointEigenSolver<Mat3> d(D);
-        Vec3 x = d.eigenvalues();
-        for (int a = 0; a < 3; ++a) x(a) = std::exp(x(a));
-        be1 = d.eigenvectors() * x.asDiagonal() * d.eigenvectors().transpose();
-      }
-      store_sym(std::exp(v) * (Finv * be1 * Finv.transpose()) - I, h1 + Hist::PLASTIC);
+      // the new b_e = exp(2 (e - dep + ln(1 + alpha dT) I)) = b_e exp(-2 dep),
+      // dep coaxial with the trial b_e; |2 dep| <= 2 |dev e| <= 0.11 where
+      // b_e is within the series' bound, inside exp_sym_small's
+      Mat3 X;
+      if (!exp_sym_small(-2.0 * dep, X)) return ReturnStatus::BAD_DEFORMATION;
+      Mat3 be1 = be * X;
+      be1 = 0.5 * (be1 + be1.transpose()).eval();
+      store_sym(Finv * be1 * Finv.transpose() - I, h1 + Hist::PLASTIC);
     }
     return P.allFinite() ? ReturnStatus::OK : ReturnStatus::BAD_DEFORMATION;
   }

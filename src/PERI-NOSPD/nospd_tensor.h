@@ -100,12 +100,13 @@ inline bool polar_decomposition(const Mat3 &F, Mat3 &R, Mat3 &U)
 /* ln b of a symmetric positive definite b near a multiple of the
    identity, without its eigenvectors: with s = tr b / 3, B = b / s and
    Y = (B - I)(B + I)^-1 (a function of b, so symmetric and coaxial),
-     ln b = ln s I + 2 atanh Y = ln s I + 2 (Y + Y^3/3 + ... + Y^11/11),
-   whose first omitted term is below 2e-17 |Y| for |Y| <= 0.05
-   (Frobenius; B's eigenvalues within 0.905 and 1.105: an elastic
-   distortion of a metal is a few 1e-3).  Six 3x3 products: a few times
-   cheaper than an iterative eigen-solve, and as accurate where the
-   eigenvalues are close (where the closed-form cubic solve is not).
+     ln b = ln s I + 2 atanh Y = ln s I + 2 (Y + Y^3/3 + Y^5/5 + ...),
+   to the power whose successor is below 2e-17 |Y| (Y^11 at |Y| = 0.05,
+   Frobenius, the bound: B's eigenvalues within 0.905 and 1.105; Y^5 at
+   |Y| = 1e-3: an elastic distortion of a metal is a few 1e-3).  At most
+   six 3x3 products: a few times cheaper than an iterative eigen-solve, and
+   as accurate where the eigenvalues are close (where the closed-form
+   cubic solve is not).
    Returns false, L untouched, for b farther from isotropic (or not
    positive definite): the caller then takes the eigen-decomposition. */
 inline bool log_spd_near_isotropic(const Mat3 &b, Mat3 &L)
@@ -116,27 +117,31 @@ inline bool log_spd_near_isotropic(const Mat3 &b, Mat3 &L)
   const Mat3 B = b / s;
   Mat3 Y = (B - I) * (B + I).inverse();
   Y = 0.5 * (Y + Y.transpose()).eval();
-  if (!(Y.squaredNorm() <= 0.05 * 0.05)) return false;
+  const double y2 = Y.squaredNorm();
+  if (!(y2 <= 0.05 * 0.05)) return false;
+  // highest power 2K+1 with |Y|^(2K+2) / (2K+3) <= 2e-17
+  const int K = y2 <= 1e-6 ? 2 : (y2 <= 1e-4 ? 3 : (y2 <= 6.25e-4 ? 4 : 5));
   const Mat3 Z = Y * Y;
-  Mat3 q = I / 9.0 + Z / 11.0;
-  q = I / 7.0 + Z * q;
-  q = I / 5.0 + Z * q;
-  q = I / 3.0 + Z * q;
-  q = I + Z * q;
+  Mat3 q = I / double(2 * K + 1);
+  for (int k = K - 1; k >= 0; --k) q = I / double(2 * k + 1) + Z * q;
   L = 2.0 * Y * q + std::log(s) * I;
   L = 0.5 * (L + L.transpose()).eval();
   return L.allFinite();
 }
 
-/* exp D of a symmetric D with |D| <= 0.1 (Frobenius) by its Taylor
-   series to D^12 (the omitted terms below 1e-22 |D|), in Horner form.
+/* exp D of a symmetric D with |D| <= 0.2 (Frobenius) by its Taylor
+   series, in Horner form, to the power N whose successor's bound
+   |D|^(N+1) / (N+1)! is below 1e-18 (N = 15 at |D| = 0.2, 7 at 0.01).
    Returns false, E untouched, for a larger D. */
 inline bool exp_sym_small(const Mat3 &D, Mat3 &E)
 {
-  if (!(D.squaredNorm() <= 0.1 * 0.1)) return false;
+  const double nd = D.norm();
+  if (!(nd <= 0.2)) return false;
+  int N = 1;
+  for (double t = nd; (t *= nd / (N + 1)) > 1e-18;) ++N;
   const Mat3 I = Mat3::Identity();
-  Mat3 q = I + D / 12.0;
-  for (int k = 11; k >= 1; --k) q = I + (D * q) / double(k);
+  Mat3 q = I + D / double(N);
+  for (int k = N - 1; k >= 1; --k) q = I + (D * q) / double(k);
   E = 0.5 * (q + q.transpose());
   return E.allFinite();
 }

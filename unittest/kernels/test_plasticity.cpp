@@ -182,6 +182,27 @@ TEST(Plasticity, UniaxialLinearIsotropicHenckyLargeElasticStrain)
   check_uniaxial_curve(Law::HENCKY, 2.0e9, 0.0, E / 16.0);
 }
 
+// one step to 80 times the yield strain (a plastic increment of 0.1; the
+// trial b_e far from isotropic, the return in its principal frame), then
+// elastic unloading and reloading: all on the closed-form curve
+TEST(Plasticity, UniaxialHenckyOneLargeStep)
+{
+  Point pt(Law::HENCKY);
+  pt.fl.active = true;
+  pt.fl.kind = Hardening::LINEAR;
+  pt.fl.sigma_y0 = SY;
+  pt.fl.H = 2.0e9;
+  UniaxialCurve ref{2.0e9, 0.0, SY};
+  const double ey = SY / E;
+  double e2 = 0.0;
+  for (double e1 : {80.0 * ey, 78.0 * ey, 79.5 * ey}) {
+    const double s = uniaxial(pt, e1, e2);
+    EXPECT_NEAR(s, ref.stress(e1), 1e-10 * SY) << "e1 = " << e1 / ey << " ey";
+  }
+  EXPECT_NEAR(pt.h[Hist::EQPS], ref.alpha, 1e-10 * ref.alpha);
+  EXPECT_GT(ref.alpha, 0.09);
+}
+
 // at 200 K above the reference temperature, the path shifted by the thermal
 // strain: the same curve (linear hardening has no thermal softening), so
 // the plastic state a yielding step stores holds no thermal part
@@ -193,7 +214,7 @@ TEST(Plasticity, UniaxialCurveHeated)
 // ln b and exp D by their series against the eigen-decomposition, on
 // near-isotropic tensors of every scale of distortion (exact multiples of
 // the identity and double eigenvalues included); beyond their range
-// (|Y| > 0.05, |D| > 0.1) or for b not positive definite they decline
+// (|Y| > 0.05, |D| > 0.2) or for b not positive definite they decline
 TEST(Plasticity, LogAndExpSeriesMatchEigen)
 {
   std::mt19937 gen(29);
@@ -253,8 +274,12 @@ TEST(Plasticity, LogAndExpSeriesMatchEigen)
   EXPECT_FALSE(log_spd_near_isotropic(indefinite, L));
   EXPECT_FALSE(log_spd_near_isotropic(-Mat3::Identity(), L));
   Mat3 big = Mat3::Zero();
-  big(0, 1) = big(1, 0) = 0.1;
+  big(0, 1) = big(1, 0) = 0.15;
   EXPECT_FALSE(exp_sym_small(big, Ed));
+  // its bound, |D| = 0.2, where the Hencky return may take it
+  big(0, 1) = big(1, 0) = 0.14;
+  ASSERT_TRUE(exp_sym_small(big, Ed));
+  EXPECT_LT((Ed - eigen_fn(big, ex)).cwiseAbs().maxCoeff(), 1e-15);
 }
 
 // Power-law hardening: on the monotonic curve sigma = sigma_y(eqps) and the
