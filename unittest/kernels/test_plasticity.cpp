@@ -65,6 +65,17 @@ Mat3 stress_measure(Law law, const Mat3 &F, const Mat3 &P)
   return law == Law::SMALL ? P : Mat3(P * F.transpose());
 }
 
+// a point with linear isotropic hardening H from the yield stress SY
+Point linear_hardening_point(Law law, double H)
+{
+  Point pt(law);
+  pt.fl.active = true;
+  pt.fl.kind = Hardening::LINEAR;
+  pt.fl.sigma_y0 = SY;
+  pt.fl.H = H;
+  return pt;
+}
+
 // F of the mechanical strains of F0 plus the point's thermal strain eth:
 // eps + eth I (SMALL), a stretch 1 + eth, ln(1 + eth) in log strain (HENCKY)
 Mat3 heated(const Point &pt, const Mat3 &F0)
@@ -187,11 +198,7 @@ TEST(Plasticity, UniaxialLinearIsotropicHenckyLargeElasticStrain)
 // elastic unloading and reloading: all on the closed-form curve
 TEST(Plasticity, UniaxialHenckyOneLargeStep)
 {
-  Point pt(Law::HENCKY);
-  pt.fl.active = true;
-  pt.fl.kind = Hardening::LINEAR;
-  pt.fl.sigma_y0 = SY;
-  pt.fl.H = 2.0e9;
+  Point pt = linear_hardening_point(Law::HENCKY, 2.0e9);
   UniaxialCurve ref{2.0e9, 0.0, SY};
   const double ey = SY / E;
   double e2 = 0.0;
@@ -527,11 +534,7 @@ TEST(Plasticity, AdiabaticHeating)
 // reference rate and temperature the damage is eqps / (D1 + D2 exp(D3/3)).
 TEST(Plasticity, JohnsonCookDamage)
 {
-  Point pt(Law::SMALL);
-  pt.fl.active = true;
-  pt.fl.kind = Hardening::LINEAR;
-  pt.fl.sigma_y0 = SY;
-  pt.fl.H = 1e9;
+  Point pt = linear_hardening_point(Law::SMALL, 1e9);
   pt.th.failure = true;
   const double D[5] = {0.05, 3.44, -2.12, 0.002, 0.61};
   for (int k = 0; k < 5; ++k) pt.th.D[k] = D[k];
