@@ -103,9 +103,19 @@ inline bool first_piola_3d(Law law, const Lame &m, const Mat3 &F, Mat3 &P, doubl
     }
     case Law::HENCKY: {
       if (!(F.determinant() > 0.0)) return false;
-      // ln V from the eigenpairs of b = F F^T; tau is coaxial with V
-      const Mat3 b = F * F.transpose();
-      Eigen::SelfAdjointEigenSolver<Mat3> eig(0.5 * (b + b.transpose()));
+      // ln V = ln b / 2, b = F F^T; tau is coaxial with V.  Near isotropic b
+      // by its series, else from b's eigenpairs (nospd_tensor.h)
+      Mat3 b = F * F.transpose();
+      b = 0.5 * (b + b.transpose()).eval();
+      Mat3 lnb;
+      if (log_spd_near_isotropic(b, lnb)) {
+        const Mat3 e = 0.5 * lnb;
+        const double tr = e.trace();
+        P = (m.lambda * tr * I + 2.0 * m.mu * e) * F.inverse().transpose();
+        W = 0.5 * m.lambda * tr * tr + m.mu * e.squaredNorm();
+        return true;
+      }
+      Eigen::SelfAdjointEigenSolver<Mat3> eig(b);
       if (eig.info() != Eigen::Success || !(eig.eigenvalues().minCoeff() > 0.0)) return false;
       Vec3 e;
       for (int a = 0; a < 3; ++a) e(a) = 0.5 * std::log(eig.eigenvalues()(a));

@@ -450,6 +450,40 @@ TEST_P(LawTest, FirstPiolaIsEnergyGradient)
   }
 }
 
+// The Hencky law from its definition, in the principal frame of b = F F^T:
+// tau = sum_a (lambda tr e + 2 mu e_a) n_a (x) n_a, e_a = ln(lambda_a), for
+// stretches near isotropy (where the law takes the series of ln b) and far
+// from it (where it takes the eigenpairs), rotated, to 1e-13.
+TEST(Constitutive, HenckyMatchesPrincipalFrameDefinition)
+{
+  const Lame m = Lame::from_young(E_YOUNG, NU);
+  Rng rng(47);
+  std::vector<Mat3> cases;
+  for (double a : {1e-6, 1e-3, 1e-2, 0.03}) {
+    for (int k = 0; k < 5; ++k) {
+      const Mat3 R = rotation(Vec3(rng.uniform(), rng.uniform(), rng.uniform() + 0.1),
+                              180.0 * rng.uniform());
+      const double s = 1.0 + 0.2 * rng.uniform();
+      cases.push_back(R * (s * (Mat3::Identity() + rng.matrix(a))));
+    }
+  }
+  cases.push_back(large_F());
+  for (const Mat3 &F : cases) {
+    ASSERT_GT(F.determinant(), 0.0);
+    Eigen::SelfAdjointEigenSolver<Mat3> eig(F * F.transpose());
+    Vec3 e;
+    for (int a = 0; a < 3; ++a) e(a) = 0.5 * std::log(eig.eigenvalues()(a));
+    const Vec3 t = (m.lambda * e.sum()) * Vec3::Ones() + 2.0 * m.mu * e;
+    const Mat3 tau = eig.eigenvectors() * t.asDiagonal() * eig.eigenvectors().transpose();
+    const double Wref = 0.5 * m.lambda * e.sum() * e.sum() + m.mu * e.squaredNorm();
+    Mat3 P;
+    double W;
+    ASSERT_TRUE(first_piola_3d(Law::HENCKY, m, F, P, W));
+    EXPECT_LT(relerr(P * F.transpose(), tau), 1e-13) << "F =\n" << F;
+    EXPECT_NEAR(W, Wref, 1e-13 * Wref);
+  }
+}
+
 // The reference configuration is stress and energy free.
 TEST_P(LawTest, ReferenceIsStressFree)
 {
