@@ -191,15 +191,7 @@ namespace detail {
     double s;
     const double f = fl.thermal_factor(T) * fl.rate_factor(rate, s);
     auto flow = [&](double dd, double &slope) {
-      const double a = a_n + dd;
-      double h;
-      if (a > 0.0) {
-        const double an = std::pow(a, fl.n);
-        slope = fl.K * fl.n * an / a;
-        h = fl.sigma_y0 + fl.K * an;
-      } else {
-        h = fl.hardening(a, slope);
-      }
+      const double h = fl.hardening(a_n + dd, slope);
       slope *= f;
       return f * h;
     };
