@@ -18,6 +18,7 @@
 #include "nospd_simd.h"
 
 #include <algorithm>
+#include <climits>
 #include <cmath>
 #include <cstring>
 
@@ -70,6 +71,13 @@ NOSPD_KERNEL_CLONES bool evaluate(const BondPattern &p, HSForm form, NOSPD::Law 
 {
   return NOSPD::evaluate_families<DIM, L>(p, form, law, plane, in, energy, s, out);
 }
+template <int DIM>
+NOSPD_KERNEL_CLONES void stencil_kernel(const NOSPD::Stencil &st, const int *cell,
+                                        const int *pair_lin, const int *slot_lin,
+                                        const double *u, int i, double *f, double *H, double *Hbar)
+{
+  NOSPD::stencil_point<DIM>(st, cell, pair_lin, slot_lin, u, i, f, H, Hbar);
+}
 }    // namespace
 
 /* ---------------------------------------------------------------------- */
@@ -77,15 +85,18 @@ NOSPD_KERNEL_CLONES bool evaluate(const BondPattern &p, HSForm form, NOSPD::Law 
 PairPeriNospdHS::PairPeriNospdHS(LAMMPS *lmp) :
     PairPeriNospd(lmp), hs_form(HSForm::II), hs_ratio(1.0), mapped_version(-1),
     nsingular_bonds(0), nfallback_states(0), reported(false), nmax_ghost(0), fghost(nullptr),
-    vghost(nullptr), reverse_virial(0), nbig(0), stab_on(false)
+    vghost(nullptr), reverse_virial(0), nbig(0), stencil_on(true), nstencil_all(0),
+    comm_mode(0), stab_on(false)
 {
   if (lmp->citeme) lmp->citeme->add(cite_nospd_hs);
   stab = NOSPD::Stab::NONE;
   comm_forward = 0;
   comm_reverse = 9;    // force, and the per-atom virial when it is wanted
-  nextra = 1;          // compute pair: bond families on the singular-K fallback
+  // compute pair: bond families on the singular-K fallback, points on the
+  // stencil
+  nextra = 2;
   pvector = new double[nextra];
-  pvector[0] = 0.0;
+  pvector[0] = pvector[1] = 0.0;
 }
 
 /* ---------------------------------------------------------------------- */
@@ -124,6 +135,10 @@ void PairPeriNospdHS::settings(int narg, char **arg)
       if (val == "I" || val == "1") hs_form = HSForm::I;
       else if (val == "II" || val == "2") hs_form = HSForm::II;
       else error->all(FLERR, "{}: unknown form '{}' (I, II)", cmd, val);
+    } else if (key == "stencil") {
+      if (val != "yes" && val != "no")
+        error->all(FLERR, "{}: stencil must be yes or no, got '{}'", cmd, val);
+      stencil_on = val == "yes";
     } else if (key == "ratio") {
       hs_ratio = utils::numeric(FLERR, val, false, lmp);
       if (!(hs_ratio > 0.0))
@@ -171,7 +186,13 @@ void PairPeriNospdHS::init_style()
       fix_bonds->set_history_size(NOSPD::FamilyHist::SIZE, NOSPD::BondHist::SIZE);
     if (is_umat(i)) fix_bonds->set_history_size(2 * umat_size, umat_size);
   }
-  if (!stab_on) comm_forward = 0;    // else the classical B (H) and s travel
+  // the classical B (H) and s travel with a stabilization; the stencil's
+  // keys and flags at least
+  if (!stab_on) comm_forward = 0;
+  comm_forward = MAX(comm_forward, 1);
+  // the law may have changed: stencils anew
+  pattern_stencils.clear();
+  mapped_version = -1;
   reported = false;
   linear_law.assign(atom->ntypes + 1, NOSPD::LinearLaw());
   for (int i = 1; i <= atom->ntypes; i++)
@@ -209,8 +230,13 @@ void PairPeriNospdHS::compute(int eflag, int vflag)
     fill_base_temperature();
   }
   const bool virial = vflag_either;
-  if (domain->dimension == 2) virial ? force_pass<2, 1>(eflag) : force_pass<2, 0>(eflag);
-  else virial ? force_pass<3, 1>(eflag) : force_pass<3, 0>(eflag);
+  // the stencil knows no energy and no virial: steps that want them take
+  // the families of every point
+  const bool on_stencil_step = nstencil_all > 0 && !eflag && !virial;
+  if (domain->dimension == 2)
+    virial ? force_pass<2, 1>(eflag, false) : force_pass<2, 0>(eflag, on_stencil_step);
+  else virial ? force_pass<3, 1>(eflag, false) : force_pass<3, 0>(eflag, on_stencil_step);
+  if (on_stencil_step) stencil_pass();
   if (fix_bonds->nhistory) fix_bonds->trial_history_ready();
   if (stab == NOSPD::Stab::SILLING && eflag)
     for (int i = 0; i < atom->nlocal; i++) fix_bonds->energy_density[i] += stab_energy[i];
@@ -260,14 +286,22 @@ void PairPeriNospdHS::gather_family(int i, const BondPattern &p, const uint16_t 
    (the lanes of evaluate_families), else one at a time.
 ------------------------------------------------------------------------- */
 
-template <int DIM, int VIRIAL> void PairPeriNospdHS::force_pass(int eflag)
+template <int DIM, int VIRIAL> void PairPeriNospdHS::force_pass(int eflag, bool stencil_step)
 {
   // a formula law keeps scratch space: one thread
   const int nlocal = atom->nlocal;
   prepare_work(comm->nthreads, nlocal + atom->nghost);
-  for_ranges(nlocal, !user_law(), [&](int from, int to, int tid, Tally &t) {
-    force_range<DIM, VIRIAL>(from, to, tid, eflag, t);
-  });
+  const std::vector<int> &order = stencil_step ? family_order : state_order;
+  if (stencil_step) {
+    if (!VIRIAL)
+      for_ranges((int) order.size(), !user_law(), [&](int from, int to, int tid, Tally &t) {
+        force_range<DIM, 0, true>(order.data(), from, to, tid, eflag, t);
+      });
+  } else {
+    for_ranges((int) order.size(), !user_law(), [&](int from, int to, int tid, Tally &t) {
+      force_range<DIM, VIRIAL, false>(order.data(), from, to, tid, eflag, t);
+    });
+  }
   // the other threads' scatter, added in thread order
   double *fg = fghost[0];
   const int nall = nlocal + atom->nghost;
@@ -284,11 +318,13 @@ template <int DIM, int VIRIAL> void PairPeriNospdHS::force_pass(int eflag)
 }
 
 /* ----------------------------------------------------------------------
-   the families of state_order[from..to) by thread tid
+   the families of order[from..to) by thread tid; MASKED: no force onto
+   the points on the stencil
 ------------------------------------------------------------------------- */
 
-template <int DIM, int VIRIAL>
-void PairPeriNospdHS::force_range(int from, int to, int tid, int eflag, Tally &t)
+template <int DIM, int VIRIAL, bool MASKED>
+void PairPeriNospdHS::force_range(const int *order, int from, int to, int tid, int eflag,
+                                  Tally &t)
 {
   // two lanes pay in 2D, where a family's rows are short; in 3D the rows
   // of two families no longer fit the L1 cache and one lane is faster
@@ -313,11 +349,11 @@ void PairPeriNospdHS::force_range(int from, int to, int tid, int eflag, Tally &t
   const int nhist = fix_bonds->nhistory;
   const bool minimizing = (update->whichflag == 2);
   for (int q = from; q < to;) {
-    const int i0 = state_order[q];
+    const int i0 = order[q];
     const BondPattern &p = patterns[state_pattern[i0]];
     const int lanes = (LANES == 2 && q + 1 < to &&
-                       state_pattern[state_order[q + 1]] == state_pattern[i0]) ? 2 : 1;
-    int atoms[2] = {i0, lanes == 2 ? state_order[q + 1] : -1};
+                       state_pattern[order[q + 1]] == state_pattern[i0]) ? 2 : 1;
+    int atoms[2] = {i0, lanes == 2 ? order[q + 1] : -1};
     for (int l = 0; l < lanes; l++) {
       const int i = atoms[l];
       gather_family(i, p, &state_perm[state_first[i]], w, l);
@@ -342,7 +378,7 @@ void PairPeriNospdHS::force_range(int from, int to, int tid, int eflag, Tally &t
                    out[l].bad >= 0 ? "bond-associated family" : "whole family", partner,
                    fix_bonds->unstable_cause());
       }
-      apply_family<VIRIAL>(atoms[l], p, w, l, fg, vg, out[l], eflag, t);
+      apply_family<VIRIAL, MASKED>(atoms[l], p, w, l, fg, vg, out[l], eflag, t);
       if (laws[l].active && !p.atom_singular) finish_history(atoms[l], laws[l], eflag, minimizing, t);
     }
     q += lanes;
@@ -512,7 +548,7 @@ void PairPeriNospdHS::stabilization_pass(int eflag)
    Per-atom virial: half of each pair's r (x) f to either end.
 ------------------------------------------------------------------------- */
 
-template <int VIRIAL>
+template <int VIRIAL, bool MASKED>
 void PairPeriNospdHS::apply_family(int i, const BondPattern &p, FamilyWork &wk, int lane,
                                    double *fg, double *vg, const NOSPD::StateOutput &out,
                                    int eflag, Tally &tally)
@@ -539,6 +575,7 @@ void PairPeriNospdHS::apply_family(int i, const BondPattern &p, FamilyWork &wk, 
   const double *t = wk.tbuf[lane].data();
   const int *jl = wk.jbuf[lane].data();
   const double *w = p.w.data();
+  const char *skip = on_stencil.data();
   double fx = 0.0, fy = 0.0, fz = 0.0;
   double v[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
   for (int s = 0; s < n; s++) {
@@ -547,6 +584,7 @@ void PairPeriNospdHS::apply_family(int i, const BondPattern &p, FamilyWork &wk, 
     fx += gx;
     fy += gy;
     fz += gz;
+    if (MASKED && skip[j]) continue;
     const double r = vi * inv_vol[j];
     fg[3 * j] -= r * gx;
     fg[3 * j + 1] -= r * gy;
@@ -563,6 +601,7 @@ void PairPeriNospdHS::apply_family(int i, const BondPattern &p, FamilyWork &wk, 
         for (int k = 0; k < 6; k++) vg[6 * j + k] += r * vij[k];
     }
   }
+  if (MASKED && skip[i]) return;
   add_force_virial(i, fx, fy, fz, v, VIRIAL, tally);
 }
 
@@ -617,13 +656,17 @@ void PairPeriNospdHS::map_families()
   std::vector<int> users(patterns.size(), 0), renum(patterns.size(), -1);
   for (int i = 0; i < nlocal; i++) users[npat[i]]++;
   std::vector<BondPattern> kept;
+  std::vector<std::map<int, NOSPD::Stencil>> kept_stencils;
+  pattern_stencils.resize(patterns.size());
   pattern_lookup.clear();
   for (size_t k = 0; k < patterns.size(); k++) {
     if (!users[k]) continue;
     renum[k] = (int) kept.size();
     kept.push_back(std::move(patterns[k]));
+    kept_stencils.push_back(std::move(pattern_stencils[k]));
   }
   patterns.swap(kept);
+  pattern_stencils.swap(kept_stencils);
   for (size_t k = 0; k < patterns.size(); k++)
     pattern_lookup.emplace(key_hash(patterns[k].key), (int) k);
   for (int i = 0; i < nlocal; i++) npat[i] = renum[npat[i]];
@@ -671,9 +714,248 @@ void PairPeriNospdHS::map_families()
   MPI_Allreduce(&nsing, &nsingular_bonds, 1, MPI_LMP_BIGINT, MPI_SUM, world);
   MPI_Allreduce(&nfall, &nfallback_states, 1, MPI_LMP_BIGINT, MPI_SUM, world);
 
+  std::vector<int> kept_users(patterns.size(), 0);
+  for (int i = 0; i < nlocal; i++) kept_users[state_pattern[i]]++;
+  map_stencils(kept_users);
+
   if (!reported) {
     report_patterns();
     reported = true;
+  }
+}
+
+/* ----------------------------------------------------------------------
+   The stencil of a pattern under a type's law, built on first use; null
+   where the law or the pattern has none (nospd_stencil.h)
+------------------------------------------------------------------------- */
+
+const NOSPD::Stencil *PairPeriNospdHS::stencil_for(int pattern, int type)
+{
+  auto &byType = pattern_stencils[pattern];
+  auto it = byType.find(type);
+  if (it == byType.end()) {
+    const BondPattern &p = patterns[pattern];
+    NOSPD::Stencil st = domain->dimension == 2
+        ? NOSPD::build_stencil<2>(p, hs_form, strain_law, plane_mode, lame[type], linear_law[type])
+        : NOSPD::build_stencil<3>(p, hs_form, strain_law, plane_mode, lame[type], linear_law[type]);
+    it = byType.emplace(type, std::move(st)).first;
+  }
+  return it->second.ok ? &it->second : nullptr;
+}
+
+/* ----------------------------------------------------------------------
+   Owned and ghost atoms on a lattice of spacings h, by their reference
+   positions: cell_grid maps a cell to its atom (-1 none, -2 two atoms).
+   coords receives each atom's cell (INT_MIN off the lattice).  False if
+   the grid would be much larger than the atoms (bodies far apart).
+------------------------------------------------------------------------- */
+
+bool PairPeriNospdHS::build_cell_grid(const double *h, std::vector<std::array<int, 3>> &coords,
+                                      long stride[3])
+{
+  const int nall = atom->nlocal + atom->nghost;
+  double **x0s = fix_bonds->x0s;
+  const int dim = domain->dimension;
+  coords.assign(nall, {INT_MIN, INT_MIN, INT_MIN});
+  int lo[3] = {INT_MAX, INT_MAX, INT_MAX}, hi[3] = {INT_MIN, INT_MIN, INT_MIN};
+  for (int a = 0; a < nall; a++) {
+    std::array<int, 3> c = {0, 0, 0};
+    bool on = true;
+    for (int k = 0; k < dim && on; k++) {
+      const double q = (x0s[a][k] - x0s[0][k]) / h[k];
+      on = std::abs(q) < 1.0e9 && std::abs(q - std::nearbyint(q)) <= 1.0e-6;
+      if (on) c[k] = (int) std::nearbyint(q);
+    }
+    if (!on) continue;
+    coords[a] = c;
+    for (int k = 0; k < 3; k++) {
+      lo[k] = MIN(lo[k], c[k]);
+      hi[k] = MAX(hi[k], c[k]);
+    }
+  }
+  if (lo[0] > hi[0]) return false;
+  double cells = 1.0;
+  for (int k = 0; k < 3; k++) cells *= (double) (hi[k] - lo[k] + 1);
+  if (cells > 8.0 * nall + 4096.0) return false;
+  stride[0] = 1;
+  stride[1] = hi[0] - lo[0] + 1;
+  stride[2] = stride[1] * (hi[1] - lo[1] + 1);
+  cell_grid.assign((size_t) cells, -1);
+  for (int a = 0; a < nall; a++) {
+    if (coords[a][0] == INT_MIN) continue;
+    for (int k = 0; k < 3; k++) coords[a][k] -= lo[k];
+    int &cell = cell_grid[coords[a][0] + stride[1] * coords[a][1] + stride[2] * coords[a][2]];
+    cell = cell == -1 ? a : -2;
+  }
+  return true;
+}
+
+/* ----------------------------------------------------------------------
+   Which owned atoms take the stencil, after the families were mapped: an
+   atom whose pattern (shared by >= PROGRAM_USERS families) has a stencil,
+   whose every partner has the same pattern, type and volume (a key that
+   travels to ghosts), and whose cells within 2 delta are all there.  The
+   families that only feed such atoms are not evaluated on stencil steps.
+------------------------------------------------------------------------- */
+
+void PairPeriNospdHS::map_stencils(const std::vector<int> &users)
+{
+  const int nlocal = atom->nlocal, nall = nlocal + atom->nghost;
+  const int *type = atom->type;
+  const double *vfrac = atom->vfrac;
+  stencil_runs.clear();
+  on_stencil.assign(nall, 0);
+  family_order = state_order;
+  bigint nlocal_on = 0;
+  const bool possible = stencil_on && fix_bonds->nhistory == 0 && !user_law();
+  if (!possible) {
+    nstencil_all = 0;
+    pvector[1] = 0.0;
+    return;
+  }
+
+  // each owned atom's stencil and key; the keys go to the ghosts
+  std::vector<const NOSPD::Stencil *> st_of(nlocal, nullptr);
+  stencil_key.assign(nall, 0.0);
+  for (int i = 0; i < nlocal; i++) {
+    const int k = state_pattern[i];
+    if (users[k] < PROGRAM_USERS) continue;
+    st_of[i] = stencil_for(k, type[i]);
+    if (!st_of[i]) continue;
+    // pattern shape, weights and type; 52 bits so that a double holds it
+    // exactly (a collision is harmless: the partners' patterns are compared
+    // below where they are owned, and volumes and types everywhere)
+    const BondPattern &p = patterns[k];
+    std::vector<int64_t> key = p.key;
+    for (double w : p.w) key.push_back(std::llround(std::log(w) * 1.0e9));
+    key.push_back(type[i]);
+    stencil_key[i] = (double) ((key_hash(key) >> 12) | 1);
+  }
+  comm_mode = 1;
+  comm->forward_comm(this);
+
+  // the cell grid on the lattice of the first stencil
+  const NOSPD::Stencil *first = nullptr;
+  for (int i = 0; i < nlocal && !first; i++) first = st_of[i];
+  std::vector<std::array<int, 3>> coords;
+  long stride[3] = {0, 0, 0};
+  bool grid = first && build_cell_grid(first->h, coords, stride);
+  bool collisions = false;
+  if (grid)
+    for (int c : cell_grid) collisions = collisions || c == -2;
+
+  std::map<const NOSPD::Stencil *, int> run_of;
+  for (int i = 0; grid && i < nlocal; i++) {
+    const NOSPD::Stencil *st = st_of[i];
+    if (!st || coords[i][0] == INT_MIN || st->h[0] != first->h[0] || st->h[1] != first->h[1] ||
+        st->h[2] != first->h[2])
+      continue;
+    bool ok = true, all_owned = true;
+    for (int b = fix_bonds->bond_first[i]; ok && b < fix_bonds->bond_first[i + 1]; b++) {
+      const int j = fix_bonds->bond_j[b];
+      ok = stencil_key[j] == stencil_key[i] && type[j] == type[i] && vfrac[j] == vfrac[i];
+      if (j < nlocal) ok = ok && state_pattern[j] == state_pattern[i];
+      else all_owned = false;
+    }
+    // owned partners of one pattern have their partners here: their cells
+    // exist, unless two atoms share one
+    if (ok && (!all_owned || collisions)) {
+      auto there = [&](const int *off) {
+        for (int sgn = -1; sgn <= 1; sgn += 2) {
+          long c = 0;
+          for (int k = 0; k < 3; k++) {
+            const long ck = coords[i][k] + sgn * off[k];
+            const long nk = k == 2 ? (long) cell_grid.size() / stride[2]
+                                   : stride[k + 1] / stride[k];
+            if (ck < 0 || ck >= nk) return false;
+            c += ck * stride[k];
+          }
+          if (cell_grid[c] < 0) return false;
+        }
+        return true;
+      };
+      for (int q = 0; ok && q < st->npairs(); q++) ok = there(&st->pair_off[3 * q]);
+      for (int q = 0; ok && q < st->nslots(); q++) ok = there(&st->slot_off[3 * q]);
+    }
+    if (!ok) continue;
+    auto it = run_of.find(st);
+    if (it == run_of.end()) {
+      it = run_of.emplace(st, (int) stencil_runs.size()).first;
+      StencilRun run;
+      run.st = st;
+      auto lin = [&](const int *off) {
+        return (int) (off[0] * stride[0] + off[1] * stride[1] + off[2] * stride[2]);
+      };
+      for (int q = 0; q < st->npairs(); q++) run.pair_lin.push_back(lin(&st->pair_off[3 * q]));
+      for (int q = 0; q < st->nslots(); q++) run.slot_lin.push_back(lin(&st->slot_off[3 * q]));
+      stencil_runs.push_back(std::move(run));
+    }
+    StencilRun &run = stencil_runs[it->second];
+    run.atoms.push_back(i);
+    run.cells.push_back((int) (coords[i][0] * stride[0] + coords[i][1] * stride[1] +
+                               coords[i][2] * stride[2]));
+    on_stencil[i] = 1;
+    nlocal_on++;
+  }
+  // the flags go to the ghosts, whose families then leave them out
+  comm_mode = 2;
+  comm->forward_comm(this);
+  comm_mode = 0;
+
+  // families with a target off the stencil
+  family_order.clear();
+  for (int i : state_order) {
+    bool needed = !on_stencil[i];
+    for (int b = fix_bonds->bond_first[i]; !needed && b < fix_bonds->bond_first[i + 1]; b++)
+      needed = !on_stencil[fix_bonds->bond_j[b]];
+    if (needed) family_order.push_back(i);
+  }
+  pvector[1] = (double) nlocal_on;
+  MPI_Allreduce(&nlocal_on, &nstencil_all, 1, MPI_LMP_BIGINT, MPI_SUM, world);
+}
+
+/* ----------------------------------------------------------------------
+   Forces, F and stress of the points on the stencil
+------------------------------------------------------------------------- */
+
+void PairPeriNospdHS::stencil_pass()
+{
+  const int nall = atom->nlocal + atom->nghost;
+  double **x = atom->x;
+  double **x0s = fix_bonds->x0s;
+  ustencil.resize(4 * (size_t) nall + 4);
+  double *u = ustencil.data();
+  for (int a = 0; a < nall; a++) {
+    for (int k = 0; k < 3; k++) u[4 * a + k] = x[a][k] - x0s[a][k];
+    u[4 * a + 3] = 0.0;
+  }
+  double **f = atom->f;
+  const int *type = atom->type;
+  const bool two = domain->dimension == 2;
+  for (const StencilRun &run : stencil_runs) {
+    for_ranges((int) run.atoms.size(), true, [&](int from, int to, int, Tally &) {
+      for (int q = from; q < to; q++) {
+        const int i = run.atoms[q];
+        double fi[3], H[9], Hbar[9];
+        const int *cell = cell_grid.data() + run.cells[q];
+        if (two)
+          stencil_kernel<2>(*run.st, cell, run.pair_lin.data(), run.slot_lin.data(), u, i, fi, H,
+                            Hbar);
+        else
+          stencil_kernel<3>(*run.st, cell, run.pair_lin.data(), run.slot_lin.data(), u, i, fi, H,
+                            Hbar);
+        for (int k = 0; k < 3; k++) f[i][k] += fi[k];
+        // F, and P of the bonds' mean H as the family path stores them
+        Mat3 F = NOSPD::load(H) + Mat3::Identity(), Fbar = NOSPD::load(Hbar) + Mat3::Identity();
+        Mat3 P, Pf;
+        double W;
+        NOSPD::first_piola(strain_law, plane_mode, lame[type[i]], Fbar, P, W);
+        if (run.st->family_fallback)
+          NOSPD::first_piola(strain_law, plane_mode, lame[type[i]], F, Pf, W);
+        NOSPD::store(F, fix_bonds->defgrad[i]);
+        NOSPD::store(P, fix_bonds->pk1[i]);
+      }
+    });
   }
 }
 
@@ -767,6 +1049,13 @@ void PairPeriNospdHS::report_patterns()
     loc[2] += (double) p.runs.size() / 2.0;
   }
   for (auto &p : patterns) loc[4] += p.bytes();
+  for (auto &byType : pattern_stencils)
+    for (auto &kv : byType) loc[4] += kv.second.bytes();
+  loc[4] += (double) (cell_grid.size() + family_order.size()) * sizeof(int) +
+      (double) on_stencil.size() + 8.0 * stencil_key.size();
+  for (auto &run : stencil_runs)
+    loc[4] += (double) (run.pair_lin.size() + run.slot_lin.size() + 2 * run.atoms.size()) *
+        sizeof(int);
   loc[4] += (double) state_perm.size() * sizeof(uint16_t) +
       (double) state_pattern.size() * (3 * sizeof(int) + sizeof(tagint));
   MPI_Allreduce(loc, all, 5, MPI_DOUBLE, MPI_SUM, world);
@@ -778,10 +1067,11 @@ void PairPeriNospdHS::report_patterns()
                    "  bond families = {:.0f}, mean members = {:.4g}, mean runs = {:.4g}\n"
                    "  singular bond families (family F used) = {}, in {} atoms\n"
                    "  patterns = {:.0f} (summed over ranks), pattern and mapping state = "
-                   "{:.0f} bytes/point\n",
+                   "{:.0f} bytes/point\n"
+                   "  points on the linear law's stencil = {} of {}\n",
                    force->pair_style, hs_form == HSForm::I ? "I" : "II", hs_ratio, all[0],
                    all[1] / nbonds, all[2] / nbonds, nsingular_bonds, nfallback_states, all[3],
-                   all[4] / natoms);
+                   all[4] / natoms, nstencil_all, atom->natoms);
   if (fix_bonds->nbonds_broken == 0 && all[0] > 0.0 && nsingular_bonds > 0.5 * all[0])
     error->all(FLERR, "pair_style {}: ratio {} is too small: {} of {:.0f} bond-associated "
                "families are degenerate (fewer than {} non-coplanar members); use a larger ratio",
@@ -810,6 +1100,30 @@ int PairPeriNospdHS::bond_defgrad(int i, int b, double *F)
                                           : NOSPD::bond_defgrad<3>(p, slot, w.ubuf[0].data(), Fm);
   NOSPD::store(Fm, F);
   return own ? 1 : 0;
+}
+
+/* ----------------------------------------------------------------------
+   forward: the classical B (H) and s for a stabilization, or the
+   stencil's keys (comm_mode 1) and flags (2)
+------------------------------------------------------------------------- */
+
+int PairPeriNospdHS::pack_forward_comm(int n, int *list, double *buf, int pbc_flag, int *pbc)
+{
+  if (comm_mode == 0) return PairPeriNospd::pack_forward_comm(n, list, buf, pbc_flag, pbc);
+  for (int ii = 0; ii < n; ii++)
+    buf[ii] = comm_mode == 1 ? stencil_key[list[ii]] : (double) on_stencil[list[ii]];
+  return n;
+}
+
+/* ---------------------------------------------------------------------- */
+
+void PairPeriNospdHS::unpack_forward_comm(int n, int first, double *buf)
+{
+  if (comm_mode == 0) return PairPeriNospd::unpack_forward_comm(n, first, buf);
+  for (int ii = 0; ii < n; ii++) {
+    if (comm_mode == 1) stencil_key[first + ii] = buf[ii];
+    else on_stencil[first + ii] = buf[ii] != 0.0 ? 1 : 0;
+  }
 }
 
 /* ---------------------------------------------------------------------- */
@@ -847,6 +1161,8 @@ void PairPeriNospdHS::write_restart_settings(FILE *fp)
   const int iv = static_cast<int>(hs_form);
   fwrite(&iv, sizeof(int), 1, fp);
   fwrite(&hs_ratio, sizeof(double), 1, fp);
+  const int st = stencil_on ? 1 : 0;
+  fwrite(&st, sizeof(int), 1, fp);
 }
 
 /* ---------------------------------------------------------------------- */
@@ -854,12 +1170,15 @@ void PairPeriNospdHS::write_restart_settings(FILE *fp)
 void PairPeriNospdHS::read_restart_settings(FILE *fp)
 {
   PairPeriNospd::read_restart_settings(fp);
-  int iv = 2;
+  int iv = 2, st = 1;
   if (comm->me == 0) {
     utils::sfread(FLERR, &iv, sizeof(int), 1, fp, nullptr, error);
     utils::sfread(FLERR, &hs_ratio, sizeof(double), 1, fp, nullptr, error);
+    utils::sfread(FLERR, &st, sizeof(int), 1, fp, nullptr, error);
   }
   MPI_Bcast(&iv, 1, MPI_INT, 0, world);
+  MPI_Bcast(&st, 1, MPI_INT, 0, world);
+  stencil_on = st != 0;
   MPI_Bcast(&hs_ratio, 1, MPI_DOUBLE, 0, world);
   hs_form = static_cast<HSForm>(iv);
   // the classical settings hold the stabilization
@@ -875,7 +1194,14 @@ double PairPeriNospdHS::memory_usage()
   for (auto &p : patterns) bytes += p.bytes();
   bytes += (double) state_perm.capacity() * sizeof(uint16_t);
   bytes += (double) state_pattern.capacity() * (3 * sizeof(int) + sizeof(tagint));
-  bytes += (double) state_order.capacity() * sizeof(int);
+  bytes += (double) (state_order.capacity() + family_order.capacity() + cell_grid.capacity()) *
+      sizeof(int);
+  for (auto &byType : pattern_stencils)
+    for (auto &kv : byType) bytes += kv.second.bytes();
+  for (auto &run : stencil_runs)
+    bytes += (double) (run.pair_lin.size() + run.slot_lin.size() + run.atoms.size() +
+                       run.cells.size()) * sizeof(int);
+  bytes += (double) on_stencil.capacity() + 8.0 * (stencil_key.capacity() + ustencil.capacity());
   for (const FamilyWork &w : work)
     bytes += (double) (w.scratch.work.size() + w.scratch.side.size() + w.scratch.sums.size() +
                        w.scratch.g.size() + 2 * w.ubuf[0].size() + 2 * w.tbuf[0].size() +

@@ -15,8 +15,10 @@ PairStyle(peri/nospd/hs,PairPeriNospdHS);
 
 #include "nospd_bond_associated.h"
 #include "nospd_bond_history.h"
+#include "nospd_stencil.h"
 
 #include <cstdint>
+#include <map>
 #include <unordered_map>
 #include <vector>
 
@@ -42,6 +44,8 @@ class PairPeriNospdHS : public PairPeriNospd {
   void init_style() override;
   void write_restart_settings(FILE *) override;
   void read_restart_settings(FILE *) override;
+  int pack_forward_comm(int, int *, double *, int, int *) override;
+  void unpack_forward_comm(int, int, double *) override;
   int pack_reverse_comm(int, int, double *) override;
   void unpack_reverse_comm(int, int *, double *) override;
   double memory_usage() override;
@@ -56,6 +60,8 @@ class PairPeriNospdHS : public PairPeriNospd {
   double ratio() const { return hs_ratio; }
   bigint singular_bond_families() const { return nsingular_bonds; }
   int pattern_count() const { return (int) patterns.size(); }
+  bigint stencil_points() const { return nstencil_all; }
+  bool stencil_enabled() const { return stencil_on; }
 
  protected:
   NOSPD::HSForm hs_form;
@@ -104,9 +110,10 @@ class PairPeriNospdHS : public PairPeriNospd {
   void map_families();
   int match_pattern(int i, std::vector<uint16_t> &perm);
   void report_patterns();
-  template <int DIM, int VIRIAL> void force_pass(int eflag);
-  template <int DIM, int VIRIAL> void force_range(int from, int to, int tid, int eflag, Tally &t);
-  template <int VIRIAL>
+  template <int DIM, int VIRIAL> void force_pass(int eflag, bool stencil_step);
+  template <int DIM, int VIRIAL, bool MASKED>
+  void force_range(const int *order, int from, int to, int tid, int eflag, Tally &t);
+  template <int VIRIAL, bool MASKED>
   void apply_family(int i, const NOSPD::BondPattern &p, FamilyWork &w, int lane, double *fg,
                     double *vg, const NOSPD::StateOutput &out, int eflag, Tally &t);
   void gather_family(int i, const NOSPD::BondPattern &p, const uint16_t *perm, FamilyWork &w,
@@ -122,6 +129,31 @@ class PairPeriNospdHS : public PairPeriNospd {
                      LaneLaws &laws);
   void finish_history(int i, LaneLaws &laws, int eflag, bool minimizing, Tally &t);
   void family_failure(int i, const LaneLaws &laws, const NOSPD::Mat3 &F) const;
+
+  // The linear law's stencil (nospd_stencil.h): points whose whole
+  // horizon is one grid pattern take their force from it on steps that
+  // need no energy and no virial; the families whose every target is such
+  // a point are not evaluated then, the others scatter only onto the rest.
+  bool stencil_on;                                     // keyword stencil yes|no
+  std::vector<std::map<int, NOSPD::Stencil>> pattern_stencils;    // [pattern][type]
+  struct StencilRun {
+    const NOSPD::Stencil *st;
+    std::vector<int> pair_lin, slot_lin;    // offsets in the cell grid
+    std::vector<int> atoms, cells;          // its owned atoms and their cells
+  };
+  std::vector<StencilRun> stencil_runs;
+  std::vector<int> cell_grid;               // lattice cell -> owned or ghost atom
+  std::vector<char> on_stencil;             // owned and ghost atoms
+  std::vector<double> stencil_key;          // owned and ghost: pattern and material
+  std::vector<int> family_order;            // state_order less the families not needed
+  std::vector<double> ustencil;             // displacements, 4 per atom
+  bigint nstencil_all;
+  int comm_mode;                            // forward comm: 0 classical B, 1 key, 2 flag
+  void map_stencils(const std::vector<int> &users);
+  const NOSPD::Stencil *stencil_for(int pattern, int type);
+  bool build_cell_grid(const double *h, std::vector<std::array<int, 3>> &coords,
+                       long stride[3]);
+  void stencil_pass();
 
   // optional stabilization (silling, hourglass) on top of the
   // bond-associated forces

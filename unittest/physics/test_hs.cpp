@@ -463,7 +463,7 @@ TEST_F(HSDeck, Restart)
   Block b;
   b.n = 9;
   b.style = "peri/nospd/hs";
-  b.settings = "strain svk form II ratio 1.2 stabilization silling 0.4";
+  b.settings = "strain svk form II ratio 1.2 stabilization silling 0.4 stencil no";
   make_block(lmp, b);
   cmd(lmp, "displace_atoms all random 2e-6 2e-6 2e-6 8811 units box");
   cmd(lmp, "run 0");
@@ -482,6 +482,7 @@ TEST_F(HSDeck, Restart)
   EXPECT_EQ(std::string(lmp->force->pair_style), "peri/nospd/hs");
   EXPECT_EQ(p->ratio(), 1.2);
   EXPECT_TRUE(p->form() == NOSPD::HSForm::II);
+  EXPECT_FALSE(p->stencil_enabled());
   cmd(lmp, "run 0");
   const auto f1 = by_tag(lmp, lmp->atom->f);
   double fmax = 0.0, df = 0.0;
@@ -632,6 +633,128 @@ TEST_F(HSDeck, SillingStabilization)
 }
 
 /* Bad input: LAMMPS errors naming the value. */
+/* The linear law's stencil (nospd_stencil.h) against the families on a
+   step that needs no energy and no virial (pair->compute(0, 0)): forces,
+   the family's F and the stress.  Free surfaces (the points within 2 delta
+   take the families, those that feed only stencil points are left out),
+   a periodic box (every point on the stencil, their far cells ghosts) and
+   broken bonds (families of many patterns). */
+struct StencilCase {
+  int dim;
+  bool periodic;
+  const char *form;
+  double broken;        // fraction of bonds broken (a few bonds)
+  double ratio = 1.0;    // 0.4: singular bond families inside (the family's F)
+  std::string name() const
+  {
+    return std::to_string(dim) + "D_" + (periodic ? "periodic" : "free") + "_form" + form +
+        (broken > 0.0 ? "_broken" : "") + (ratio != 1.0 ? "_ratio04" : "");
+  }
+};
+
+void PrintTo(const StencilCase &c, std::ostream *os) { *os << c.name(); }
+
+class HSStencil : public ::testing::TestWithParam<StencilCase> {
+ protected:
+  LAMMPS *lmp = nullptr;
+  void SetUp() override { lmp = open_lammps(); }
+  void TearDown() override { delete lmp; }
+};
+
+TEST_P(HSStencil, MatchesFamilies)
+{
+  const StencilCase &c = GetParam();
+  Block b;
+  b.dim = c.dim;
+  b.periodic = c.periodic;
+  b.n = c.dim == 3 ? (c.periodic ? 13 : 16) : (c.periodic ? 20 : 30);
+  b.style = "peri/nospd/hs";
+  b.settings = std::string("form ") + c.form + (c.dim == 2 ? " plane stress" : "") +
+      " ratio " + num(c.ratio);
+  make_block(lmp, b);
+  cmd(lmp, c.dim == 3 ? "displace_atoms all random 2e-6 2e-6 2e-6 8811 units box"
+                      : "displace_atoms all random 2e-6 2e-6 0 8811 units box");
+  cmd(lmp, "run 0");
+  if (c.broken > 0.0) {
+    ASSERT_GT(break_random_bonds(lmp, c.broken, 17), 0);
+    cmd(lmp, "run 0");
+  }
+  auto *p = static_cast<PairPeriNospdHS *>(lmp->force->pair);
+  auto *fb = static_cast<FixNospdBonds *>(lmp->modify->get_fix_by_id("NOSPD_BONDS"));
+  const bigint natoms = lmp->atom->natoms;
+  const bigint on = p->stencil_points();
+  EXPECT_GT(on, 0);
+  if (c.periodic && c.broken == 0.0) EXPECT_EQ(on, natoms);
+  else EXPECT_LT(on, natoms);
+  if (c.ratio != 1.0) EXPECT_GT(p->singular_bond_families(), 0);
+
+  // run 0 took the families (its step wants energy); then the stencil
+  auto state = [&]() {
+    std::vector<std::array<double, 21>> s(natoms);
+    for (int i = 0; i < lmp->atom->nlocal; i++) {
+      auto &r = s[lmp->atom->tag[i] - 1];
+      for (int k = 0; k < 3; k++) r[k] = lmp->atom->f[i][k];
+      for (int k = 0; k < 9; k++) r[3 + k] = fb->defgrad[i][k];
+      for (int k = 0; k < 9; k++) r[12 + k] = fb->pk1[i][k];
+    }
+    return s;
+  };
+  const auto full = state();
+  const int nall = lmp->atom->nlocal + lmp->atom->nghost;
+  for (int i = 0; i < nall; i++)
+    for (int k = 0; k < 3; k++) lmp->atom->f[i][k] = 0.0;
+  for (int i = 0; i < lmp->atom->nlocal; i++)
+    for (int k = 0; k < 9; k++) fb->defgrad[i][k] = fb->pk1[i][k] = 0.0;
+  lmp->force->pair->compute(0, 0);
+  const auto sten = state();
+
+  double big[3] = {0.0, 0.0, 0.0}, diff[3] = {0.0, 0.0, 0.0};
+  const int from[3] = {0, 3, 12}, to[3] = {3, 12, 21};
+  for (bigint i = 0; i < natoms; i++)
+    for (int q = 0; q < 3; q++)
+      for (int k = from[q]; k < to[q]; k++) {
+        const double ref = q == 1 ? full[i][k] - (k == 3 || k == 7 || k == 11) : full[i][k];
+        big[q] = std::max(big[q], std::abs(ref));
+        diff[q] = std::max(diff[q], std::abs(sten[i][k] - full[i][k]));
+      }
+  EXPECT_GT(big[0], 0.0);
+  EXPECT_LE(diff[0], 1e-12 * big[0]) << "force";
+  EXPECT_LE(diff[1], 1e-12 * big[1]) << "F - I";
+  EXPECT_LE(diff[2], 1e-12 * big[2]) << "stress";
+}
+
+INSTANTIATE_TEST_SUITE_P(BondAssociated, HSStencil,
+                         ::testing::Values(StencilCase{3, false, "II", 0.0},
+                                           StencilCase{3, true, "II", 0.0},
+                                           StencilCase{3, true, "I", 0.0},
+                                           StencilCase{3, true, "II", 3e-5},
+                                           StencilCase{3, true, "II", 0.0, 0.4},
+                                           StencilCase{2, true, "I", 0.0, 0.4},
+                                           StencilCase{2, false, "II", 0.0},
+                                           StencilCase{2, false, "I", 0.0},
+                                           StencilCase{2, true, "II", 0.0},
+                                           StencilCase{2, true, "II", 8e-4}),
+                         [](const ::testing::TestParamInfo<StencilCase> &p) {
+                           return p.param.name();
+                         });
+
+/* No stencil where the law is not linear, or when switched off */
+TEST_F(HSDeck, StencilOnlyForTheLinearLaw)
+{
+  for (const char *settings : {"strain finite", "strain neohookean", "stencil no"}) {
+    delete lmp;
+    lmp = open_lammps();
+    Block b;
+    b.n = 14;
+    b.periodic = true;
+    b.style = "peri/nospd/hs";
+    b.settings = settings;
+    make_block(lmp, b);
+    cmd(lmp, "run 0");
+    EXPECT_EQ(static_cast<PairPeriNospdHS *>(lmp->force->pair)->stencil_points(), 0) << settings;
+  }
+}
+
 TEST_F(HSDeck, BadInput)
 {
   auto deck = [&]() {
@@ -657,6 +780,8 @@ TEST_F(HSDeck, BadInput)
   EXPECT_NE(error_of(lmp, "pair_style peri/nospd/hs stabilization silling -1"), "");
   EXPECT_EQ(error_of(lmp, "pair_style peri/nospd/hs stabilization silling 0.5 form II"), "");
   EXPECT_THAT(error_of(lmp, "pair_style peri/nospd/hs strain bogus"), HasSubstr("unknown strain"));
+  EXPECT_THAT(error_of(lmp, "pair_style peri/nospd/hs stencil maybe"),
+              HasSubstr("pair_style peri/nospd/hs: stencil must be yes or no, got 'maybe'"));
   EXPECT_EQ(error_of(lmp, "pair_style peri/nospd/hs stabilization none form I ratio 1.5"), "");
   // a ratio that leaves the bond-associated families degenerate
   cmd(lmp, "pair_style peri/nospd/hs ratio 0.2");

@@ -1,0 +1,294 @@
+/* -*- c++ -*- ----------------------------------------------------------
+   PERI-NOSPD: correspondence peridynamics for LAMMPS.
+   The bond-associated force operator of a regular grid as a stencil.
+   Knows nothing of LAMMPS.
+
+   Under the linear (small-strain) law a family's force state is linear
+   in its displacement differences, t_k = sum_m A_km U_m, U_m = u_{i+e_m}
+   - u_i.  Where every family within delta of a point has one pattern (a
+   grid away from surfaces and broken bonds), the force density on the
+   point is therefore a fixed combination of the displacements within
+   2 delta: its own family gives f_i += w_k t_k, and each family it is a
+   member of (slot s of the family of i - e_s) gives f_i -= w_s t_s, so
+       f_i = sum_d S_d u_{i+d},   sum_d S_d = 0 (translations are free).
+   A grid pattern is centrosymmetric, S_d = S_-d, and
+       f_i = sum_{d > 0} S_d (u_{i+d} + u_{i-d} - 2 u_i).
+   The family's F and the mean of its bonds' H are linear too:
+       F - I = sum_k U_k (x) aF_k,  aF_k = w_k K^-1 b_k,
+       Hbar  = sum_k U_k (x) aH_k,  aH_k = w_k sum_{j in h_k} beta_j K_j^-1 b_k
+   (singular bond families: K^-1 for K_j^-1), with aF_-k = -aF_k, so each
+   is a sum over half the slots of (u_{i+e} - u_{i-e}) (x) a.
+
+   The blocks A_km are read off the family evaluation itself, one call per
+   unit displacement of a member, so the stencil is the model, not a
+   second derivation of it: forces agree with the family path to round-off.
+   On the benchmark grid (3D, delta = 3 dx, ratio 1) a point costs ~450
+   block products against two ~55-member sums per bond of its family.
+------------------------------------------------------------------------- */
+
+#ifndef NOSPD_STENCIL_H
+#define NOSPD_STENCIL_H
+
+#include "nospd_bond_associated.h"
+
+#include <array>
+#include <cmath>
+#include <map>
+#include <vector>
+
+namespace NOSPD {
+
+struct Stencil {
+  bool ok = false;
+  int dim = 3;
+  double h[3] = {0.0, 0.0, 0.0};    // lattice spacing along x, y, z
+  // pairs (+d, -d): the integer offset d (3 each) and S_d by columns,
+  // each column 4 doubles (12 per pair)
+  std::vector<int> pair_off;
+  std::vector<double> pair_block;
+  // family slots in pairs (+e, -e): e (3 each), aF and aH of +e (4 each)
+  std::vector<int> slot_off;
+  std::vector<double> slot_aF, slot_aH;
+  // the pattern has singular bond families: the family's F passes
+  // through the law as the family path does (plane stress solves F_zz)
+  bool family_fallback = false;
+
+  int npairs() const { return (int) pair_off.size() / 3; }
+  int nslots() const { return (int) slot_off.size() / 3; }
+  double bytes() const
+  {
+    return sizeof(Stencil) + 4.0 * (pair_off.size() + slot_off.size()) +
+        8.0 * (pair_block.size() + slot_aF.size() + slot_aH.size());
+  }
+};
+
+namespace detail {
+  using Offset = std::array<int, 3>;
+  inline Offset neg(const Offset &a) { return {-a[0], -a[1], -a[2]}; }
+  inline Offset sub(const Offset &a, const Offset &b)
+  {
+    return {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
+  }
+  // first nonzero component positive
+  inline bool positive(const Offset &a)
+  {
+    for (int c = 0; c < 3; ++c)
+      if (a[c]) return a[c] > 0;
+    return false;
+  }
+}    // namespace detail
+
+/* The stencil of the families of pattern p under the linear law lin
+   (form, law and plane as the family path takes them).  Not ok where the
+   law is not linear, the family has no shape tensor, the offsets are not
+   on a lattice of spacings h, or the operator is not centrosymmetric. */
+template <int DIM>
+Stencil build_stencil(const BondPattern &p, HSForm form, Law law, Plane plane, const Lame &m,
+                      const LinearLaw &lin)
+{
+  using detail::Offset;
+  Stencil st;
+  st.dim = DIM;
+  const int n = p.n;
+  if (!lin.ok || p.atom_singular || n == 0) return st;
+
+  // the lattice: the smallest offset along each axis, every offset a
+  // whole multiple of it
+  for (int c = 0; c < DIM; ++c) {
+    double h = 0.0;
+    for (int k = 0; k < n; ++k) {
+      const double a = std::abs(p.b[3 * k + c]);
+      if (a > 0.0 && (h == 0.0 || a < h)) h = a;
+    }
+    if (h == 0.0) return st;
+    st.h[c] = h;
+  }
+  std::vector<Offset> e(n);
+  std::map<Offset, int> slot_at;
+  for (int k = 0; k < n; ++k) {
+    e[k] = {0, 0, 0};
+    for (int c = 0; c < DIM; ++c) {
+      const double q = p.b[3 * k + c] / st.h[c];
+      e[k][c] = (int) std::lround(q);
+      if (std::abs(q - e[k][c]) > 1.0e-8) return st;
+    }
+    slot_at[e[k]] = k;
+  }
+  std::vector<int> mirror(n);
+  for (int k = 0; k < n; ++k) {
+    auto it = slot_at.find(detail::neg(e[k]));
+    if (it == slot_at.end()) return st;
+    mirror[k] = it->second;
+  }
+
+  // A_km by columns: the force state for a unit displacement of member m
+  // along a (the spacing as the unit keeps the probe's numbers ordinary)
+  const double unit = st.h[0];
+  std::vector<double> A((size_t) 9 * n * n, 0.0), U(3 * n + 1, 0.0), t(3 * n + 1, 0.0);
+  StateScratch scratch;
+  StateOutput out;
+  for (int mm = 0; mm < n; ++mm)
+    for (int a = 0; a < DIM; ++a) {
+      U[3 * mm + a] = unit;
+      if (!evaluate_family<DIM>(p, form, law, plane, m, lin, false, U.data(), t.data(), scratch,
+                                out))
+        return st;
+      U[3 * mm + a] = 0.0;
+      for (int k = 0; k < n; ++k)
+        for (int r = 0; r < DIM; ++r) A[((size_t) k * n + mm) * 9 + 3 * r + a] = t[3 * k + r] / unit;
+    }
+
+  // S_d from the point's own family and the families it belongs to
+  std::map<Offset, std::array<double, 9>> S;
+  auto add = [&](const Offset &d, const double *blk, double scale) {
+    auto &s = S[d];
+    for (int q = 0; q < 9; ++q) s[q] += scale * blk[q];
+  };
+  const Offset zero{0, 0, 0};
+  for (int k = 0; k < n; ++k)
+    for (int mm = 0; mm < n; ++mm) {
+      const double *blk = &A[((size_t) k * n + mm) * 9];
+      add(e[mm], blk, p.w[k]);
+      add(zero, blk, -p.w[k]);
+      add(detail::sub(e[mm], e[k]), blk, -p.w[k]);
+      add(detail::neg(e[k]), blk, p.w[k]);
+    }
+  // (each term above adds to S_0 what it adds elsewhere, with the
+  // opposite sign: sum_d S_d = 0 by construction)
+  double scale = 0.0;
+  for (auto &kv : S)
+    for (int q = 0; q < 9; ++q) scale = std::max(scale, std::abs(kv.second[q]));
+  if (scale == 0.0) return st;
+
+  // pairs, each block the mean of S_d and S_-d (equal to round-off)
+  for (auto &kv : S) {
+    if (!detail::positive(kv.first)) continue;
+    auto it = S.find(detail::neg(kv.first));
+    double blk[9], big = 0.0;
+    for (int q = 0; q < 9; ++q) {
+      const double other = it == S.end() ? 0.0 : it->second[q];
+      if (std::abs(kv.second[q] - other) > 1.0e-9 * scale) return Stencil();
+      blk[q] = 0.5 * (kv.second[q] + other);
+      big = std::max(big, std::abs(blk[q]));
+    }
+    if (big <= 1.0e-14 * scale) continue;
+    for (int c = 0; c < 3; ++c) st.pair_off.push_back(kv.first[c]);
+    for (int c = 0; c < 3; ++c) {    // column c of S_d, padded to 4
+      for (int r = 0; r < 3; ++r) st.pair_block.push_back(blk[3 * r + c]);
+      st.pair_block.push_back(0.0);
+    }
+  }
+
+  // aF_k and aH_k
+  constexpr int NC = DIM * DIM;
+  auto kinv_b = [&](const double *Ki, int k, double *out3) {
+    for (int r = 0; r < 3; ++r) out3[r] = 0.0;
+    for (int r = 0; r < DIM; ++r)
+      for (int c = 0; c < DIM; ++c) out3[r] += Ki[r * DIM + c] * p.b[3 * k + c];
+  };
+  double cs_beta = 0.0;
+  for (int j = 0; j < n; ++j)
+    if (p.singular[j]) cs_beta += p.beta[j];
+  st.family_fallback = p.nsingular > 0;
+  std::vector<std::array<double, 3>> aF(n), aH(n);
+  for (int k = 0; k < n; ++k) {
+    double v[3], acc[3] = {0.0, 0.0, 0.0};
+    kinv_b(p.kinv_full, k, v);
+    for (int r = 0; r < 3; ++r) {
+      aF[k][r] = p.w[k] * v[r];
+      acc[r] = cs_beta * v[r];
+    }
+    const uint16_t *runs = &p.runs[2 * p.run_first[k]];
+    for (int q = 0; q < p.run_first[k + 1] - p.run_first[k]; ++q)
+      for (int j = runs[2 * q]; j < runs[2 * q + 1]; ++j) {
+        if (p.singular[j]) continue;
+        kinv_b(&p.kinv[NC * j], k, v);
+        for (int r = 0; r < 3; ++r) acc[r] += p.beta[j] * v[r];
+      }
+    for (int r = 0; r < 3; ++r) aH[k][r] = p.w[k] * acc[r];
+  }
+  double ascale = 0.0;
+  for (int k = 0; k < n; ++k)
+    for (int r = 0; r < 3; ++r) ascale = std::max({ascale, std::abs(aF[k][r]), std::abs(aH[k][r])});
+  for (int k = 0; k < n; ++k) {
+    if (!detail::positive(e[k])) continue;
+    const int km = mirror[k];
+    for (int c = 0; c < 3; ++c) st.slot_off.push_back(e[k][c]);
+    for (int r = 0; r < 3; ++r) {
+      if (std::abs(aF[k][r] + aF[km][r]) > 1.0e-9 * ascale ||
+          std::abs(aH[k][r] + aH[km][r]) > 1.0e-9 * ascale)
+        return Stencil();
+      st.slot_aF.push_back(0.5 * (aF[k][r] - aF[km][r]));
+      st.slot_aH.push_back(0.5 * (aH[k][r] - aH[km][r]));
+    }
+    st.slot_aF.push_back(0.0);
+    st.slot_aH.push_back(0.0);
+  }
+  st.ok = true;
+  return st;
+}
+
+/* The force density on point i, and its family's H = F - I and mean bond
+   H (row-major 3x3, rows and columns past DIM zero).  u: displacements, 4
+   per atom (the fourth unused); cell[pair_lin[q]] and cell[-pair_lin[q]]
+   are the atoms at +d and -d of pair q, likewise slot_lin for the family
+   slots.  The pair sum runs on six accumulators, two pairs at a time, so
+   that its additions do not wait on each other. */
+template <int DIM>
+inline void stencil_point(const Stencil &st, const int *cell, const int *pair_lin,
+                          const int *slot_lin, const double *u, int i, double *f, double *H,
+                          double *Hbar)
+{
+  using namespace simd;
+  const v4 ui2 = 2.0 * load4(u + 4 * i);
+  const double *blk = st.pair_block.data();
+  const int np = st.npairs();
+  v4 a0{}, a1{}, a2{}, b0{}, b1{}, b2{};
+  int q = 0;
+  for (; q + 2 <= np; q += 2) {
+    const int l0 = pair_lin[q], l1 = pair_lin[q + 1];
+    const v4 d0 = (load4(u + 4 * cell[l0]) + load4(u + 4 * cell[-l0])) - ui2;
+    const v4 d1 = (load4(u + 4 * cell[l1]) + load4(u + 4 * cell[-l1])) - ui2;
+    const double *c0 = blk + 12 * q, *c1 = c0 + 12;
+    a0 += load4(c0) * d0[0];
+    a1 += load4(c0 + 4) * d0[1];
+    b0 += load4(c1) * d1[0];
+    b1 += load4(c1 + 4) * d1[1];
+    if (DIM == 3) {
+      a2 += load4(c0 + 8) * d0[2];
+      b2 += load4(c1 + 8) * d1[2];
+    }
+  }
+  for (; q < np; ++q) {
+    const int l0 = pair_lin[q];
+    const v4 d0 = (load4(u + 4 * cell[l0]) + load4(u + 4 * cell[-l0])) - ui2;
+    const double *c0 = blk + 12 * q;
+    a0 += load4(c0) * d0[0];
+    a1 += load4(c0 + 4) * d0[1];
+    if (DIM == 3) a2 += load4(c0 + 8) * d0[2];
+  }
+  const v4 acc = ((a0 + b0) + (a1 + b1)) + (a2 + b2);
+  f[0] = acc[0], f[1] = acc[1], f[2] = DIM == 3 ? acc[2] : 0.0;
+
+  v4 hf[3] = {}, hb[3] = {};
+  const int ns = st.nslots();
+  for (int s = 0; s < ns; ++s) {
+    const int l = slot_lin[s];
+    const v4 d = load4(u + 4 * cell[l]) - load4(u + 4 * cell[-l]);
+    const v4 af = load4(&st.slot_aF[4 * s]), ah = load4(&st.slot_aH[4 * s]);
+    for (int r = 0; r < DIM; ++r) {
+      hf[r] += d[r] * af;
+      hb[r] += d[r] * ah;
+    }
+  }
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) {
+      const bool in = r < DIM && c < DIM;
+      H[3 * r + c] = in ? hf[r][c] : 0.0;
+      Hbar[3 * r + c] = in ? hb[r][c] : 0.0;
+    }
+}
+
+}    // namespace NOSPD
+
+#endif
