@@ -31,6 +31,7 @@
 
 #include "nospd_bond_associated.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <map>
@@ -179,6 +180,27 @@ Stencil build_stencil(const BondPattern &p, HSForm form, Law law, Plane plane, c
     }
   }
 
+  // pairs in memory order of a grid whose x runs fastest: consecutive
+  // blocks read neighbouring cells
+  {
+    const int np = st.npairs();
+    std::vector<int> order(np);
+    for (int q = 0; q < np; ++q) order[q] = q;
+    auto zyx = [&](int q) {
+      const int *o = &st.pair_off[3 * q];
+      return std::array<int, 3>{o[2], o[1], o[0]};
+    };
+    std::sort(order.begin(), order.end(), [&](int a, int b) { return zyx(a) < zyx(b); });
+    std::vector<int> off(3 * np);
+    std::vector<double> blocks(12 * np);
+    for (int q = 0; q < np; ++q) {
+      std::copy_n(&st.pair_off[3 * order[q]], 3, &off[3 * q]);
+      std::copy_n(&st.pair_block[12 * order[q]], 12, &blocks[12 * q]);
+    }
+    st.pair_off.swap(off);
+    st.pair_block.swap(blocks);
+  }
+
   // aF_k and aH_k
   constexpr int NC = DIM * DIM;
   auto kinv_b = [&](const double *Ki, int k, double *out3) {
@@ -228,27 +250,28 @@ Stencil build_stencil(const BondPattern &p, HSForm form, Law law, Plane plane, c
   return st;
 }
 
-/* The force density on point i, and its family's H = F - I and mean bond
-   H (row-major 3x3, rows and columns past DIM zero).  u: displacements, 4
-   per atom (the fourth unused); cell[pair_lin[q]] and cell[-pair_lin[q]]
-   are the atoms at +d and -d of pair q, likewise slot_lin for the family
-   slots.  The pair sum runs on six accumulators, two pairs at a time, so
-   that its additions do not wait on each other. */
+/* The force density on the point in cell c, and its family's H = F - I
+   and mean bond H (row-major 3x3, rows and columns past DIM zero).  u:
+   displacements by cell, 4 per cell (the fourth unused), so that the
+   point's neighbours are u[4 (c +- pair_lin[q])] without an atom lookup;
+   slot_lin likewise for the family slots.  The pair sum runs on six
+   accumulators, two pairs at a time, so that its additions do not wait
+   on each other. */
 template <int DIM>
-inline void stencil_point(const Stencil &st, const int *cell, const int *pair_lin,
-                          const int *slot_lin, const double *u, int i, double *f, double *H,
-                          double *Hbar)
+inline void stencil_point(const Stencil &st, const double *u, long c, const int *pair_lin,
+                          const int *slot_lin, double *f, double *H, double *Hbar)
 {
   using namespace simd;
-  const v4 ui2 = 2.0 * load4(u + 4 * i);
+  const double *uc = u + 4 * c;
+  const v4 ui2 = 2.0 * load4(uc);
   const double *blk = st.pair_block.data();
   const int np = st.npairs();
   v4 a0{}, a1{}, a2{}, b0{}, b1{}, b2{};
   int q = 0;
   for (; q + 2 <= np; q += 2) {
-    const int l0 = pair_lin[q], l1 = pair_lin[q + 1];
-    const v4 d0 = (load4(u + 4 * cell[l0]) + load4(u + 4 * cell[-l0])) - ui2;
-    const v4 d1 = (load4(u + 4 * cell[l1]) + load4(u + 4 * cell[-l1])) - ui2;
+    const long l0 = 4L * pair_lin[q], l1 = 4L * pair_lin[q + 1];
+    const v4 d0 = (load4(uc + l0) + load4(uc - l0)) - ui2;
+    const v4 d1 = (load4(uc + l1) + load4(uc - l1)) - ui2;
     const double *c0 = blk + 12 * q, *c1 = c0 + 12;
     a0 += load4(c0) * d0[0];
     a1 += load4(c0 + 4) * d0[1];
@@ -260,8 +283,8 @@ inline void stencil_point(const Stencil &st, const int *cell, const int *pair_li
     }
   }
   for (; q < np; ++q) {
-    const int l0 = pair_lin[q];
-    const v4 d0 = (load4(u + 4 * cell[l0]) + load4(u + 4 * cell[-l0])) - ui2;
+    const long l0 = 4L * pair_lin[q];
+    const v4 d0 = (load4(uc + l0) + load4(uc - l0)) - ui2;
     const double *c0 = blk + 12 * q;
     a0 += load4(c0) * d0[0];
     a1 += load4(c0 + 4) * d0[1];
@@ -273,8 +296,8 @@ inline void stencil_point(const Stencil &st, const int *cell, const int *pair_li
   v4 hf[3] = {}, hb[3] = {};
   const int ns = st.nslots();
   for (int s = 0; s < ns; ++s) {
-    const int l = slot_lin[s];
-    const v4 d = load4(u + 4 * cell[l]) - load4(u + 4 * cell[-l]);
+    const long l = 4L * slot_lin[s];
+    const v4 d = load4(uc + l) - load4(uc - l);
     const v4 af = load4(&st.slot_aF[4 * s]), ah = load4(&st.slot_aH[4 * s]);
     for (int r = 0; r < DIM; ++r) {
       hf[r] += d[r] * af;
@@ -282,10 +305,10 @@ inline void stencil_point(const Stencil &st, const int *cell, const int *pair_li
     }
   }
   for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 3; ++c) {
-      const bool in = r < DIM && c < DIM;
-      H[3 * r + c] = in ? hf[r][c] : 0.0;
-      Hbar[3 * r + c] = in ? hb[r][c] : 0.0;
+    for (int k = 0; k < 3; ++k) {
+      const bool in = r < DIM && k < DIM;
+      H[3 * r + k] = in ? hf[r][k] : 0.0;
+      Hbar[3 * r + k] = in ? hb[r][k] : 0.0;
     }
 }
 

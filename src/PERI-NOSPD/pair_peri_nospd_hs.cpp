@@ -21,6 +21,7 @@
 #include <climits>
 #include <cmath>
 #include <cstring>
+#include <numeric>
 
 using namespace LAMMPS_NS;
 using NOSPD::BondPattern;
@@ -72,11 +73,11 @@ NOSPD_KERNEL_CLONES bool evaluate(const BondPattern &p, HSForm form, NOSPD::Law 
   return NOSPD::evaluate_families<DIM, L>(p, form, law, plane, in, energy, s, out);
 }
 template <int DIM>
-NOSPD_KERNEL_CLONES void stencil_kernel(const NOSPD::Stencil &st, const int *cell,
-                                        const int *pair_lin, const int *slot_lin,
-                                        const double *u, int i, double *f, double *H, double *Hbar)
+NOSPD_KERNEL_CLONES void stencil_kernel(const NOSPD::Stencil &st, const double *u, long c,
+                                        const int *pair_lin, const int *slot_lin, double *f,
+                                        double *H, double *Hbar)
 {
-  NOSPD::stencil_point<DIM>(st, cell, pair_lin, slot_lin, u, i, f, H, Hbar);
+  NOSPD::stencil_point<DIM>(st, u, c, pair_lin, slot_lin, f, H, Hbar);
 }
 }    // namespace
 
@@ -781,10 +782,12 @@ bool PairPeriNospdHS::build_cell_grid(const double *h, std::vector<std::array<in
   stride[1] = hi[0] - lo[0] + 1;
   stride[2] = stride[1] * (hi[1] - lo[1] + 1);
   cell_grid.assign((size_t) cells, -1);
+  cell_of.assign(nall, -1);
   for (int a = 0; a < nall; a++) {
     if (coords[a][0] == INT_MIN) continue;
     for (int k = 0; k < 3; k++) coords[a][k] -= lo[k];
-    int &cell = cell_grid[coords[a][0] + stride[1] * coords[a][1] + stride[2] * coords[a][2]];
+    cell_of[a] = coords[a][0] + stride[1] * coords[a][1] + stride[2] * coords[a][2];
+    int &cell = cell_grid[cell_of[a]];
     cell = cell == -1 ? a : -2;
   }
   return true;
@@ -804,6 +807,8 @@ void PairPeriNospdHS::map_stencils(const std::vector<int> &users)
   const int *type = atom->type;
   const double *vfrac = atom->vfrac;
   stencil_runs.clear();
+  cell_grid.clear();
+  cell_of.clear();
   on_stencil.assign(nall, 0);
   family_order = state_order;
   bigint nlocal_on = 0;
@@ -892,10 +897,23 @@ void PairPeriNospdHS::map_stencils(const std::vector<int> &users)
     }
     StencilRun &run = stencil_runs[it->second];
     run.atoms.push_back(i);
-    run.cells.push_back((int) (coords[i][0] * stride[0] + coords[i][1] * stride[1] +
-                               coords[i][2] * stride[2]));
+    run.cells.push_back(cell_of[i]);
     on_stencil[i] = 1;
     nlocal_on++;
+  }
+  // each run in cell order: consecutive points share most of their
+  // neighbourhoods in the cache
+  for (StencilRun &run : stencil_runs) {
+    std::vector<int> order(run.atoms.size());
+    std::iota(order.begin(), order.end(), 0);
+    std::sort(order.begin(), order.end(), [&](int a, int b) { return run.cells[a] < run.cells[b]; });
+    std::vector<int> atoms(order.size()), cells(order.size());
+    for (size_t q = 0; q < order.size(); q++) {
+      atoms[q] = run.atoms[order[q]];
+      cells[q] = run.cells[order[q]];
+    }
+    run.atoms.swap(atoms);
+    run.cells.swap(cells);
   }
   // the flags go to the ghosts, whose families then leave them out
   comm_mode = 2;
@@ -920,14 +938,18 @@ void PairPeriNospdHS::map_stencils(const std::vector<int> &users)
 
 void PairPeriNospdHS::stencil_pass()
 {
+  // displacements by lattice cell: a point's neighbours without lookups
+  // (cells that hold no atom, or two, are never read)
   const int nall = atom->nlocal + atom->nghost;
   double **x = atom->x;
   double **x0s = fix_bonds->x0s;
-  ustencil.resize(4 * (size_t) nall + 4);
+  ustencil.resize(4 * cell_grid.size() + 4);
   double *u = ustencil.data();
   for (int a = 0; a < nall; a++) {
-    for (int k = 0; k < 3; k++) u[4 * a + k] = x[a][k] - x0s[a][k];
-    u[4 * a + 3] = 0.0;
+    const long c = cell_of[a];
+    if (c < 0) continue;
+    for (int k = 0; k < 3; k++) u[4 * c + k] = x[a][k] - x0s[a][k];
+    u[4 * c + 3] = 0.0;
   }
   double **f = atom->f;
   const int *type = atom->type;
@@ -937,13 +959,11 @@ void PairPeriNospdHS::stencil_pass()
       for (int q = from; q < to; q++) {
         const int i = run.atoms[q];
         double fi[3], H[9], Hbar[9];
-        const int *cell = cell_grid.data() + run.cells[q];
+        const long c = run.cells[q];
         if (two)
-          stencil_kernel<2>(*run.st, cell, run.pair_lin.data(), run.slot_lin.data(), u, i, fi, H,
-                            Hbar);
+          stencil_kernel<2>(*run.st, u, c, run.pair_lin.data(), run.slot_lin.data(), fi, H, Hbar);
         else
-          stencil_kernel<3>(*run.st, cell, run.pair_lin.data(), run.slot_lin.data(), u, i, fi, H,
-                            Hbar);
+          stencil_kernel<3>(*run.st, u, c, run.pair_lin.data(), run.slot_lin.data(), fi, H, Hbar);
         for (int k = 0; k < 3; k++) f[i][k] += fi[k];
         // F, and P of the bonds' mean H as the family path stores them
         Mat3 F = NOSPD::load(H) + Mat3::Identity(), Fbar = NOSPD::load(Hbar) + Mat3::Identity();

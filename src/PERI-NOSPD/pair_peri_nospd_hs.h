@@ -143,10 +143,11 @@ class PairPeriNospdHS : public PairPeriNospd {
   };
   std::vector<StencilRun> stencil_runs;
   std::vector<int> cell_grid;               // lattice cell -> owned or ghost atom
+  std::vector<int> cell_of;                 // owned or ghost atom -> cell (-1 none)
   std::vector<char> on_stencil;             // owned and ghost atoms
   std::vector<double> stencil_key;          // owned and ghost: pattern and material
   std::vector<int> family_order;            // state_order less the families not needed
-  std::vector<double> ustencil;             // displacements, 4 per atom
+  std::vector<double> ustencil;             // displacements, 4 per cell
   bigint nstencil_all;
   int comm_mode;                            // forward comm: 0 classical B, 1 key, 2 flag
   void map_stencils(const std::vector<int> &users);
