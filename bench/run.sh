@@ -7,7 +7,8 @@
 # `-sf omp -pk omp 2`, np2 = `mpirun -np 2`, np2rcb = `mpirun -np 2` with
 # tiled communication balanced by recursive bisection, d2 = the 2D plane-strain
 # square (`-var dim 2`, BENCH_N2 points per side, default 200; peri/lps has
-# no 2D form, so its ratio is to the 3D block's).  BENCH_ONLY (an extended regular
+# no 2D form, so its ratio is to the 3D block's), p3 = the periodic n^3 box
+# (`-var periodic yes`: no surfaces, ghosts to 2 delta).  BENCH_ONLY (an extended regular
 # expression) keeps the rows whose launch:style|settings|coeff matches it;
 # peri/lps always runs, for the ratio.
 set -euo pipefail
@@ -26,12 +27,13 @@ declare -a MODELS=("lps|" "pmb|" "nospd|stabilization none" "nospd|stabilization
   "nospd|strain small|yield 1e9" "nospd|strain small|yield 2e6 hardening linear 1e9"
   "nospd|strain hencky|yield 2e6 hardening linear 1e9"
   "nospd|strain hencky|johnson_cook 2e6 1e8 0.3 0.01 1 1 293 1000 heat 900 0.9"
-  "hs|form II" "hs|form I"
+  "hs|form II" "hs|form II stencil no" "hs|form I"
   "hs|form II strain small|yield 2e6 hardening linear 1e9"
   "hs|form II strain hencky|yield 2e6 hardening linear 1e9"
   "omp2:nospd|stabilization silling 0.5" "np2:nospd|stabilization silling 0.5"
   "np2:lps|" "omp2:hs|form II" "np2rcb:nospd|stabilization silling 0.5" "np2rcb:lps|"
-  "d2:nospd|stabilization silling 0.5" "d2:hs|form II")
+  "d2:nospd|stabilization silling 0.5" "d2:hs|form II" "d2:hs|form II stencil no"
+  "p3:nospd|stabilization silling 0.5" "p3:hs|form II" "p3:hs|form II stencil no")
 lps_rate=""
 for m in "${MODELS[@]}"; do
   if [ -n "${BENCH_ONLY:-}" ] && [ "$m" != "lps|" ] && ! grep -Eq -- "$BENCH_ONLY" <<< "$m"; then continue; fi
@@ -44,6 +46,7 @@ for m in "${MODELS[@]}"; do
     np2) pre=(mpirun --allow-run-as-root -np 2); ranks=2 ;;
     np2rcb) pre=(mpirun --allow-run-as-root -np 2); post=(-var rcb yes); ranks=2 ;;
     d2) post=(-var dim 2); n=${BENCH_N2:-200} ;;
+    p3) post=(-var periodic yes) ;;
   esac
   best=""
   for r in $(seq "$REPEATS"); do
@@ -62,6 +65,7 @@ for m in "${MODELS[@]}"; do
   label="$settings${coeff:+ / $coeff}"
   [ "$launch" = np2rcb ] && label="$label [tiled, rcb]"
   [ "$launch" = d2 ] && label="$label [2D plane strain]"
+  [ "$launch" = p3 ] && label="$label [periodic]"
   echo "peri/${style},$label,$ranks,$threads,$points,$STEPS,$best,$rate,$ratio,${mem:-}" >> "$CSV"
   [ "$style" = hs ] && style=nospd/hs
   printf "%-10s %-34s %dx%d %9s point-steps/s  x%-6s vs peri/lps  %s B/point\n" "peri/$style" "$label" \

@@ -250,49 +250,68 @@ Stencil build_stencil(const BondPattern &p, HSForm form, Law law, Plane plane, c
   return st;
 }
 
-/* The force density on the point in cell c, and its family's H = F - I
-   and mean bond H (row-major 3x3, rows and columns past DIM zero).  u:
-   displacements by cell, 4 per cell (the fourth unused), so that the
-   point's neighbours are u[4 (c +- pair_lin[q])] without an atom lookup;
-   slot_lin likewise for the family slots.  The pair sum runs on six
-   accumulators, two pairs at a time, so that its additions do not wait
-   on each other. */
+/* The force densities on the points in cells c[0..NP) (NP = 1 or 2).  u:
+   displacements by cell, 4 per cell (the fourth unused), so that a
+   point's neighbours are u[4 (c +- pair_lin[q])] without an atom lookup.
+   Two points share each block's loads; each point's sum runs on three
+   accumulators (one per column) and, for one point, two pairs at a time,
+   so that its additions do not wait on each other. */
+template <int DIM, int NP>
+inline void stencil_forces(const Stencil &st, const double *u, const long *c, const int *pair_lin,
+                           double (*f)[3])
+{
+  using namespace simd;
+  const double *uc[NP];
+  v4 ui2[NP], a0[NP], a1[NP], a2[NP], b0[NP], b1[NP], b2[NP];
+  for (int p = 0; p < NP; ++p) {
+    uc[p] = u + 4 * c[p];
+    ui2[p] = 2.0 * load4(uc[p]);
+    a0[p] = a1[p] = a2[p] = b0[p] = b1[p] = b2[p] = v4{};
+  }
+  const double *blk = st.pair_block.data();
+  const int np = st.npairs();
+  int q = 0;
+  if (NP == 1)
+    for (; q + 2 <= np; q += 2) {
+      const long l0 = 4L * pair_lin[q], l1 = 4L * pair_lin[q + 1];
+      const v4 d0 = (load4(uc[0] + l0) + load4(uc[0] - l0)) - ui2[0];
+      const v4 d1 = (load4(uc[0] + l1) + load4(uc[0] - l1)) - ui2[0];
+      const double *c0 = blk + 12 * q, *c1 = c0 + 12;
+      a0[0] += load4(c0) * d0[0];
+      a1[0] += load4(c0 + 4) * d0[1];
+      b0[0] += load4(c1) * d1[0];
+      b1[0] += load4(c1 + 4) * d1[1];
+      if (DIM == 3) {
+        a2[0] += load4(c0 + 8) * d0[2];
+        b2[0] += load4(c1 + 8) * d1[2];
+      }
+    }
+  for (; q < np; ++q) {
+    const long l = 4L * pair_lin[q];
+    const double *c0 = blk + 12 * q;
+    const v4 k0 = load4(c0), k1 = load4(c0 + 4);
+    for (int p = 0; p < NP; ++p) {
+      const v4 d = (load4(uc[p] + l) + load4(uc[p] - l)) - ui2[p];
+      a0[p] += k0 * d[0];
+      a1[p] += k1 * d[1];
+      if (DIM == 3) a2[p] += load4(c0 + 8) * d[2];
+    }
+  }
+  for (int p = 0; p < NP; ++p) {
+    const v4 acc = ((a0[p] + b0[p]) + (a1[p] + b1[p])) + (a2[p] + b2[p]);
+    f[p][0] = acc[0], f[p][1] = acc[1], f[p][2] = DIM == 3 ? acc[2] : 0.0;
+  }
+}
+
+/* The family's H = F - I and the mean bond H of the point in cell c
+   (row-major 3x3, rows and columns past DIM zero); slot_lin as pair_lin
+   for the family's slots. */
 template <int DIM>
-inline void stencil_point(const Stencil &st, const double *u, long c, const int *pair_lin,
-                          const int *slot_lin, double *f, double *H, double *Hbar)
+inline void stencil_family(const Stencil &st, const double *u, long c, const int *slot_lin,
+                           double *H, double *Hbar)
 {
   using namespace simd;
   const double *uc = u + 4 * c;
-  const v4 ui2 = 2.0 * load4(uc);
-  const double *blk = st.pair_block.data();
-  const int np = st.npairs();
-  v4 a0{}, a1{}, a2{}, b0{}, b1{}, b2{};
-  int q = 0;
-  for (; q + 2 <= np; q += 2) {
-    const long l0 = 4L * pair_lin[q], l1 = 4L * pair_lin[q + 1];
-    const v4 d0 = (load4(uc + l0) + load4(uc - l0)) - ui2;
-    const v4 d1 = (load4(uc + l1) + load4(uc - l1)) - ui2;
-    const double *c0 = blk + 12 * q, *c1 = c0 + 12;
-    a0 += load4(c0) * d0[0];
-    a1 += load4(c0 + 4) * d0[1];
-    b0 += load4(c1) * d1[0];
-    b1 += load4(c1 + 4) * d1[1];
-    if (DIM == 3) {
-      a2 += load4(c0 + 8) * d0[2];
-      b2 += load4(c1 + 8) * d1[2];
-    }
-  }
-  for (; q < np; ++q) {
-    const long l0 = 4L * pair_lin[q];
-    const v4 d0 = (load4(uc + l0) + load4(uc - l0)) - ui2;
-    const double *c0 = blk + 12 * q;
-    a0 += load4(c0) * d0[0];
-    a1 += load4(c0 + 4) * d0[1];
-    if (DIM == 3) a2 += load4(c0 + 8) * d0[2];
-  }
-  const v4 acc = ((a0 + b0) + (a1 + b1)) + (a2 + b2);
-  f[0] = acc[0], f[1] = acc[1], f[2] = DIM == 3 ? acc[2] : 0.0;
-
   v4 hf[3] = {}, hb[3] = {};
   const int ns = st.nslots();
   for (int s = 0; s < ns; ++s) {

@@ -72,12 +72,29 @@ NOSPD_KERNEL_CLONES bool evaluate(const BondPattern &p, HSForm form, NOSPD::Law 
 {
   return NOSPD::evaluate_families<DIM, L>(p, form, law, plane, in, energy, s, out);
 }
+// the stencil's points [from, to) of a run: forces two at a time, then
+// each point's F and mean bond H
 template <int DIM>
-NOSPD_KERNEL_CLONES void stencil_kernel(const NOSPD::Stencil &st, const double *u, long c,
-                                        const int *pair_lin, const int *slot_lin, double *f,
-                                        double *H, double *Hbar)
+NOSPD_KERNEL_CLONES void stencil_kernel(const NOSPD::Stencil &st, const double *u,
+                                        const int *cells, const int *pair_lin,
+                                        const int *slot_lin, int from, int to, double (*f)[3],
+                                        double (*H)[9], double (*Hbar)[9])
 {
-  NOSPD::stencil_point<DIM>(st, u, c, pair_lin, slot_lin, f, H, Hbar);
+  int q = from;
+  for (; q + 4 <= to; q += 4) {
+    const long c[4] = {cells[q], cells[q + 1], cells[q + 2], cells[q + 3]};
+    NOSPD::stencil_forces<DIM, 4>(st, u, c, pair_lin, f + (q - from));
+  }
+  for (; q + 2 <= to; q += 2) {
+    const long c[2] = {cells[q], cells[q + 1]};
+    NOSPD::stencil_forces<DIM, 2>(st, u, c, pair_lin, f + (q - from));
+  }
+  if (q < to) {
+    const long c[1] = {cells[q]};
+    NOSPD::stencil_forces<DIM, 1>(st, u, c, pair_lin, f + (q - from));
+  }
+  for (q = from; q < to; q++)
+    NOSPD::stencil_family<DIM>(st, u, cells[q], slot_lin, H[q - from], Hbar[q - from]);
 }
 }    // namespace
 
@@ -956,14 +973,20 @@ void PairPeriNospdHS::stencil_pass()
   const bool two = domain->dimension == 2;
   for (const StencilRun &run : stencil_runs) {
     for_ranges((int) run.atoms.size(), true, [&](int from, int to, int, Tally &) {
-      for (int q = from; q < to; q++) {
-        const int i = run.atoms[q];
-        double fi[3], H[9], Hbar[9];
-        const long c = run.cells[q];
+      // in blocks, so that the kernel's loop over points is its own
+      constexpr int BLOCK = 64;
+      double fb[BLOCK][3], Hb[BLOCK][9], Hbarb[BLOCK][9];
+      for (int q0 = from; q0 < to; q0 += BLOCK) {
+        const int q1 = std::min(to, q0 + BLOCK);
         if (two)
-          stencil_kernel<2>(*run.st, u, c, run.pair_lin.data(), run.slot_lin.data(), fi, H, Hbar);
+          stencil_kernel<2>(*run.st, u, run.cells.data(), run.pair_lin.data(), run.slot_lin.data(),
+                            q0, q1, fb, Hb, Hbarb);
         else
-          stencil_kernel<3>(*run.st, u, c, run.pair_lin.data(), run.slot_lin.data(), fi, H, Hbar);
+          stencil_kernel<3>(*run.st, u, run.cells.data(), run.pair_lin.data(), run.slot_lin.data(),
+                            q0, q1, fb, Hb, Hbarb);
+      for (int q = q0; q < q1; q++) {
+        const int i = run.atoms[q];
+        const double *fi = fb[q - q0], *H = Hb[q - q0], *Hbar = Hbarb[q - q0];
         for (int k = 0; k < 3; k++) f[i][k] += fi[k];
         // F, and P of the bonds' mean H as the family path stores them
         Mat3 F = NOSPD::load(H) + Mat3::Identity(), Fbar = NOSPD::load(Hbar) + Mat3::Identity();
@@ -974,6 +997,7 @@ void PairPeriNospdHS::stencil_pass()
           NOSPD::first_piola(strain_law, plane_mode, lame[type[i]], F, Pf, W);
         NOSPD::store(F, fix_bonds->defgrad[i]);
         NOSPD::store(P, fix_bonds->pk1[i]);
+      }
       }
     });
   }
