@@ -22,7 +22,7 @@
    The blocks A_km are read off the family evaluation itself, one call per
    unit displacement of a member, so the stencil is the model, not a
    second derivation of it: forces agree with the family path to round-off.
-   On the benchmark grid (3D, delta = 3 dx, ratio 1) a point costs ~450
+   On the benchmark grid (3D, delta = 3 dx, ratio 1) a point costs 414
    block products against two ~55-member sums per bond of its family.
 ------------------------------------------------------------------------- */
 

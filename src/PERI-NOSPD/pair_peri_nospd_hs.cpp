@@ -969,38 +969,44 @@ void PairPeriNospdHS::stencil_pass()
     u[4 * c + 3] = 0.0;
   }
   double **f = atom->f;
-  const int *type = atom->type;
   const bool two = domain->dimension == 2;
   for (const StencilRun &run : stencil_runs) {
     for_ranges((int) run.atoms.size(), true, [&](int from, int to, int, Tally &) {
-      // in blocks, so that the kernel's loop over points is its own
+      // blocks of points, so that the kernel's loop over them is its own
       constexpr int BLOCK = 64;
       double fb[BLOCK][3], Hb[BLOCK][9], Hbarb[BLOCK][9];
       for (int q0 = from; q0 < to; q0 += BLOCK) {
         const int q1 = std::min(to, q0 + BLOCK);
-        if (two)
-          stencil_kernel<2>(*run.st, u, run.cells.data(), run.pair_lin.data(), run.slot_lin.data(),
-                            q0, q1, fb, Hb, Hbarb);
-        else
-          stencil_kernel<3>(*run.st, u, run.cells.data(), run.pair_lin.data(), run.slot_lin.data(),
-                            q0, q1, fb, Hb, Hbarb);
-      for (int q = q0; q < q1; q++) {
-        const int i = run.atoms[q];
-        const double *fi = fb[q - q0], *H = Hb[q - q0], *Hbar = Hbarb[q - q0];
-        for (int k = 0; k < 3; k++) f[i][k] += fi[k];
-        // F, and P of the bonds' mean H as the family path stores them
-        Mat3 F = NOSPD::load(H) + Mat3::Identity(), Fbar = NOSPD::load(Hbar) + Mat3::Identity();
-        Mat3 P, Pf;
-        double W;
-        NOSPD::first_piola(strain_law, plane_mode, lame[type[i]], Fbar, P, W);
-        if (run.st->family_fallback)
-          NOSPD::first_piola(strain_law, plane_mode, lame[type[i]], F, Pf, W);
-        NOSPD::store(F, fix_bonds->defgrad[i]);
-        NOSPD::store(P, fix_bonds->pk1[i]);
-      }
+        const int *cells = run.cells.data(), *pl = run.pair_lin.data(), *sl = run.slot_lin.data();
+        if (two) stencil_kernel<2>(*run.st, u, cells, pl, sl, q0, q1, fb, Hb, Hbarb);
+        else stencil_kernel<3>(*run.st, u, cells, pl, sl, q0, q1, fb, Hb, Hbarb);
+        for (int q = q0; q < q1; q++) {
+          const int i = run.atoms[q];
+          for (int k = 0; k < 3; k++) f[i][k] += fb[q - q0][k];
+          store_stencil_state(i, *run.st, Hb[q - q0], Hbarb[q - q0]);
+        }
       }
     });
   }
+}
+
+/* ----------------------------------------------------------------------
+   F and stress of a point on the stencil, as the family path stores them:
+   P of the bonds' mean H (the law is linear), the family's F through the
+   law where singular bond families use it (plane stress solves F_zz)
+------------------------------------------------------------------------- */
+
+void PairPeriNospdHS::store_stencil_state(int i, const NOSPD::Stencil &st, const double *H,
+                                          const double *Hbar)
+{
+  const int itype = atom->type[i];
+  Mat3 F = NOSPD::load(H) + Mat3::Identity(), Fbar = NOSPD::load(Hbar) + Mat3::Identity();
+  Mat3 P, Pf;
+  double W;
+  NOSPD::first_piola(strain_law, plane_mode, lame[itype], Fbar, P, W);
+  if (st.family_fallback) NOSPD::first_piola(strain_law, plane_mode, lame[itype], F, Pf, W);
+  NOSPD::store(F, fix_bonds->defgrad[i]);
+  NOSPD::store(P, fix_bonds->pk1[i]);
 }
 
 /* ----------------------------------------------------------------------
@@ -1095,7 +1101,7 @@ void PairPeriNospdHS::report_patterns()
   for (auto &p : patterns) loc[4] += p.bytes();
   for (auto &byType : pattern_stencils)
     for (auto &kv : byType) loc[4] += kv.second.bytes();
-  loc[4] += (double) (cell_grid.size() + family_order.size()) * sizeof(int) +
+  loc[4] += (double) (cell_grid.size() + cell_of.size() + family_order.size()) * sizeof(int) +
       (double) on_stencil.size() + 8.0 * stencil_key.size();
   for (auto &run : stencil_runs)
     loc[4] += (double) (run.pair_lin.size() + run.slot_lin.size() + 2 * run.atoms.size()) *
@@ -1238,8 +1244,8 @@ double PairPeriNospdHS::memory_usage()
   for (auto &p : patterns) bytes += p.bytes();
   bytes += (double) state_perm.capacity() * sizeof(uint16_t);
   bytes += (double) state_pattern.capacity() * (3 * sizeof(int) + sizeof(tagint));
-  bytes += (double) (state_order.capacity() + family_order.capacity() + cell_grid.capacity()) *
-      sizeof(int);
+  bytes += (double) (state_order.capacity() + family_order.capacity() + cell_grid.capacity() +
+                     cell_of.capacity()) * sizeof(int);
   for (auto &byType : pattern_stencils)
     for (auto &kv : byType) bytes += kv.second.bytes();
   for (auto &run : stencil_runs)

@@ -155,6 +155,7 @@ class PairPeriNospdHS : public PairPeriNospd {
   bool build_cell_grid(const double *h, std::vector<std::array<int, 3>> &coords,
                        long stride[3]);
   void stencil_pass();
+  void store_stencil_state(int i, const NOSPD::Stencil &st, const double *H, const double *Hbar);
 
   // optional stabilization (silling, hourglass) on top of the
   // bond-associated forces
