@@ -645,10 +645,12 @@ struct StencilCase {
   const char *form;
   double broken;        // fraction of bonds broken (a few bonds)
   double ratio = 1.0;    // 0.4: singular bond families inside (the family's F)
+  int halves = 0;        // the upper half x >= n/2: 1 another material, 2 another volume
   std::string name() const
   {
     return std::to_string(dim) + "D_" + (periodic ? "periodic" : "free") + "_form" + form +
-        (broken > 0.0 ? "_broken" : "") + (ratio != 1.0 ? "_ratio04" : "");
+        (broken > 0.0 ? "_broken" : "") + (ratio != 1.0 ? "_ratio04" : "") +
+        (halves == 1 ? "_two_materials" : halves == 2 ? "_two_volumes" : "");
   }
 };
 
@@ -667,11 +669,25 @@ TEST_P(HSStencil, MatchesFamilies)
   Block b;
   b.dim = c.dim;
   b.periodic = c.periodic;
-  b.n = c.dim == 3 ? (c.periodic ? 13 : 16) : (c.periodic ? 20 : 30);
+  // halves: each half wide enough for points 2 delta from both its interfaces
+  const int n3 = c.periodic ? (c.halves ? 26 : 13) : 16;
+  const int n2 = c.periodic ? (c.halves ? 40 : 20) : 30;
+  b.n = c.dim == 3 ? n3 : n2;
   b.style = "peri/nospd/hs";
   b.settings = std::string("form ") + c.form + (c.dim == 2 ? " plane stress" : "") +
       " ratio " + num(c.ratio);
   make_block(lmp, b);
+  if (c.halves) {
+    const double half = 0.5 * b.n * b.dx;
+    cmd(lmp, "region upper block " + num(half) + " INF INF INF INF INF units box");
+    if (c.halves == 1) {
+      cmd(lmp, "set region upper type 2");
+      cmd(lmp, "pair_coeff 2 2 70e9 0.33 " + num(b.delta()));
+    } else {
+      const double vol = c.dim == 2 ? b.dx * b.dx : b.dx * b.dx * b.dx;
+      cmd(lmp, "set region upper volume " + num(1.1 * vol));
+    }
+  }
   cmd(lmp, c.dim == 3 ? "displace_atoms all random 2e-6 2e-6 2e-6 8811 units box"
                       : "displace_atoms all random 2e-6 2e-6 0 8811 units box");
   cmd(lmp, "run 0");
@@ -684,7 +700,7 @@ TEST_P(HSStencil, MatchesFamilies)
   const bigint natoms = lmp->atom->natoms;
   const bigint on = p->stencil_points();
   EXPECT_GT(on, 0);
-  if (c.periodic && c.broken == 0.0) EXPECT_EQ(on, natoms);
+  if (c.periodic && c.broken == 0.0 && !c.halves) EXPECT_EQ(on, natoms);
   else EXPECT_LT(on, natoms);
   if (c.ratio != 1.0) EXPECT_GT(p->singular_bond_families(), 0);
 
@@ -730,6 +746,9 @@ INSTANTIATE_TEST_SUITE_P(BondAssociated, HSStencil,
                                            StencilCase{3, true, "II", 3e-5},
                                            StencilCase{3, true, "II", 0.0, 0.4},
                                            StencilCase{2, true, "I", 0.0, 0.4},
+                                           StencilCase{3, true, "II", 0.0, 1.0, 1},
+                                           StencilCase{2, true, "II", 0.0, 1.0, 1},
+                                           StencilCase{2, true, "II", 0.0, 1.0, 2},
                                            StencilCase{2, false, "II", 0.0},
                                            StencilCase{2, false, "I", 0.0},
                                            StencilCase{2, true, "II", 0.0},
