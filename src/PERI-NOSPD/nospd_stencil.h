@@ -250,43 +250,28 @@ Stencil build_stencil(const BondPattern &p, HSForm form, Law law, Plane plane, c
   return st;
 }
 
-/* The force densities on the points in cells c[0..NP) (NP = 1 or 2).  u:
-   displacements by cell, 4 per cell (the fourth unused), so that a
+/* The force densities on the points in cells c[0..NP) (NP = 1, 2 or 4).
+   u: displacements by cell, 4 per cell (the fourth unused), so that a
    point's neighbours are u[4 (c +- pair_lin[q])] without an atom lookup.
-   Two points share each block's loads; each point's sum runs on three
-   accumulators (one per column) and, for one point, two pairs at a time,
-   so that its additions do not wait on each other. */
+   The points share each block's loads; each point's sum runs on three
+   accumulators (one per column), whose additions do not wait on each
+   other across points.  A point's sum is the same bits whichever NP it
+   is taken with (which depends on the ranks and threads). */
 template <int DIM, int NP>
 inline void stencil_forces(const Stencil &st, const double *u, const long *c, const int *pair_lin,
                            double (*f)[3])
 {
   using namespace simd;
   const double *uc[NP];
-  v4 ui2[NP], a0[NP], a1[NP], a2[NP], b0[NP], b1[NP], b2[NP];
+  v4 ui2[NP], a0[NP], a1[NP], a2[NP];
   for (int p = 0; p < NP; ++p) {
     uc[p] = u + 4 * c[p];
     ui2[p] = 2.0 * load4(uc[p]);
-    a0[p] = a1[p] = a2[p] = b0[p] = b1[p] = b2[p] = v4{};
+    a0[p] = a1[p] = a2[p] = v4{};
   }
   const double *blk = st.pair_block.data();
   const int np = st.npairs();
-  int q = 0;
-  if (NP == 1)
-    for (; q + 2 <= np; q += 2) {
-      const long l0 = 4L * pair_lin[q], l1 = 4L * pair_lin[q + 1];
-      const v4 d0 = (load4(uc[0] + l0) + load4(uc[0] - l0)) - ui2[0];
-      const v4 d1 = (load4(uc[0] + l1) + load4(uc[0] - l1)) - ui2[0];
-      const double *c0 = blk + 12 * q, *c1 = c0 + 12;
-      a0[0] += load4(c0) * d0[0];
-      a1[0] += load4(c0 + 4) * d0[1];
-      b0[0] += load4(c1) * d1[0];
-      b1[0] += load4(c1 + 4) * d1[1];
-      if (DIM == 3) {
-        a2[0] += load4(c0 + 8) * d0[2];
-        b2[0] += load4(c1 + 8) * d1[2];
-      }
-    }
-  for (; q < np; ++q) {
+  for (int q = 0; q < np; ++q) {
     const long l = 4L * pair_lin[q];
     const double *c0 = blk + 12 * q;
     const v4 k0 = load4(c0), k1 = load4(c0 + 4);
@@ -298,7 +283,7 @@ inline void stencil_forces(const Stencil &st, const double *u, const long *c, co
     }
   }
   for (int p = 0; p < NP; ++p) {
-    const v4 acc = ((a0[p] + b0[p]) + (a1[p] + b1[p])) + (a2[p] + b2[p]);
+    const v4 acc = (a0[p] + a1[p]) + a2[p];
     f[p][0] = acc[0], f[p][1] = acc[1], f[p][2] = DIM == 3 ? acc[2] : 0.0;
   }
 }

