@@ -836,22 +836,28 @@ void PairPeriNospdHS::map_stencils(const std::vector<int> &users)
     return;
   }
 
-  // each owned atom's stencil and key; the keys go to the ghosts
+  // each owned atom's stencil and key; the keys go to the ghosts.  A key
+  // hashes the pattern's shape and weights and the type into 52 bits, so
+  // that a double holds it exactly (a collision is harmless: the partners'
+  // patterns are compared below where they are owned, and volumes and
+  // types everywhere)
   std::vector<const NOSPD::Stencil *> st_of(nlocal, nullptr);
   stencil_key.assign(nall, 0.0);
+  std::map<std::pair<int, int>, double> key_of;
   for (int i = 0; i < nlocal; i++) {
     const int k = state_pattern[i];
     if (users[k] < PROGRAM_USERS) continue;
     st_of[i] = stencil_for(k, type[i]);
     if (!st_of[i]) continue;
-    // pattern shape, weights and type; 52 bits so that a double holds it
-    // exactly (a collision is harmless: the partners' patterns are compared
-    // below where they are owned, and volumes and types everywhere)
-    const BondPattern &p = patterns[k];
-    std::vector<int64_t> key = p.key;
-    for (double w : p.w) key.push_back(std::llround(std::log(w) * 1.0e9));
-    key.push_back(type[i]);
-    stencil_key[i] = (double) ((key_hash(key) >> 12) | 1);
+    auto it = key_of.find({k, type[i]});
+    if (it == key_of.end()) {
+      const BondPattern &p = patterns[k];
+      std::vector<int64_t> key = p.key;
+      for (double w : p.w) key.push_back(std::llround(std::log(w) * 1.0e9));
+      key.push_back(type[i]);
+      it = key_of.emplace(std::make_pair(k, type[i]), (double) ((key_hash(key) >> 12) | 1)).first;
+    }
+    stencil_key[i] = it->second;
   }
   comm_mode = 1;
   comm->forward_comm(this);
