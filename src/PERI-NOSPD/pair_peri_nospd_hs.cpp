@@ -72,8 +72,9 @@ NOSPD_KERNEL_CLONES bool evaluate(const BondPattern &p, HSForm form, NOSPD::Law 
 {
   return NOSPD::evaluate_families<DIM, L>(p, form, law, plane, in, energy, s, out);
 }
-// the stencil's points [from, to) of a run: forces two at a time, then
-// each point's F and mean bond H
+// the stencil's points [from, to) of a run: forces four at a time (the
+// last ones two or one at a time: the same bits), then each point's F and
+// mean bond H
 template <int DIM>
 NOSPD_KERNEL_CLONES void stencil_kernel(const NOSPD::Stencil &st, const double *u,
                                         const int *cells, const int *pair_lin,
@@ -311,6 +312,7 @@ template <int DIM, int VIRIAL> void PairPeriNospdHS::force_pass(int eflag, bool 
   prepare_work(comm->nthreads, nlocal + atom->nghost);
   const std::vector<int> &order = stencil_step ? family_order : state_order;
   if (stencil_step) {
+    // (stencil steps have no virial: no masked pass with one is built)
     if (!VIRIAL)
       for_ranges((int) order.size(), !user_law(), [&](int from, int to, int tid, Tally &t) {
         force_range<DIM, 0, true>(order.data(), from, to, tid, eflag, t);
