@@ -89,6 +89,10 @@ namespace detail {
   }
 }    // namespace detail
 
+using BondReturn = ReturnStatus (*)(Law, Plane, const Lame &, const FlowLaw &, const ThermalLaw &,
+                                    const PointEnv &, Mat3 &, const double *, double *, Mat3 &,
+                                    double &);
+
 /* Where a family's law finds its rows: the accepted row hn and trial row
    h1 of the family (its own values, then an entry of bond_stride values
    per partner slot from bond_offset on), the pattern (for beta) and the
@@ -125,6 +129,9 @@ class FamilyPlasticity : public BondLaw, public FamilyRows {
   const ThermalLaw *th = nullptr;
   PointEnv env;
   ReturnStatus status = ReturnStatus::OK;
+  // the return of one bond: detail::bond_return, or a copy of it that the
+  // caller built for its CPU (a virtual stress() cannot be multiversioned)
+  BondReturn bond_return = detail::bond_return;
 
   void begin(const Mat3 &F_family) override
   {
@@ -149,7 +156,7 @@ class FamilyPlasticity : public BondLaw, public FamilyRows {
     detail::bond_point_history(bn, fl->Hkin, pn);
     pn[Hist::RATE] = replay ? hn[FamilyHist::RATE_USED] : hn[Hist::RATE];
     pn[Hist::HEAT] = replay ? hn[FamilyHist::HEAT_USED] : hn[Hist::HEAT];
-    const ReturnStatus st = detail::bond_return(law, plane, *m, *fl, *th, env, F, pn, p1, P, W);
+    const ReturnStatus st = bond_return(law, plane, *m, *fl, *th, env, F, pn, p1, P, W);
     if (st != ReturnStatus::OK) {
       status = st;
       return false;

@@ -313,33 +313,31 @@ inline ReturnStatus point_core(Law law, const Lame &m, const FlowLaw &fl, const 
   // HENCKY: trial b_e = F C_p^-1 F^T; e = ln V_e - ln(1 + alpha dT) I
   const double J = F.determinant();
   if (!(J > 0.0) || !F.allFinite()) return ReturnStatus::BAD_DEFORMATION;
-  const Mat3 Cpinv = I + load_sym(hn + Hist::PLASTIC);
-  Mat3 be = F * Cpinv * F.transpose();
-  be = 0.5 * (be + be.transpose()).eval();
+  const Sym3 be = congruence(F, plus_identity(load_sym3(hn + Hist::PLASTIC), 1.0));
   const double lth = std::log1p(eth);    // log of the thermal stretch 1 + alpha dT
   const Mat3 Finv = F.inverse();
-  Mat3 lnb, tau, dep;
+  Mat3 tau, dep;
+  Sym3 lnb;
   if (log_spd_near_isotropic(be, lnb)) {
     // near-isotropic b_e (any metal's elastic distortion): e, tau and the
     // new b_e as tensors, coaxial with b_e, no eigenvectors needed
-    Mat3 e = 0.5 * lnb - lth * I;
+    Mat3 e = 0.5 * mat_of(lnb) - lth * I;
     if (!return_map(m, fl, th, env, hn, h1, e, tau, dep, W, W_trial))
       return ReturnStatus::NO_CONVERGENCE;
     P = tau * Finv.transpose();
     if (fl.active && h1[Hist::YIELDING] > 0.0) {
       // the new b_e = exp(2 (e - dep + ln(1 + alpha dT) I)) = b_e exp(-2 dep),
-      // dep coaxial with the trial b_e; |2 dep| <= 2 |dev e| <= 0.11 where
-      // b_e is within the series' bound, inside exp_sym_small's
-      Mat3 X;
-      if (!exp_sym_small(-2.0 * dep, X)) return ReturnStatus::BAD_DEFORMATION;
-      Mat3 be1 = be * X;
-      be1 = 0.5 * (be1 + be1.transpose()).eval();
-      store_sym(Finv * be1 * Finv.transpose() - I, h1 + Hist::PLASTIC);
+      // dep coaxial with the trial b_e (isotropic hardening: dep is along
+      // dev e); |2 dep| <= 2 |dev e| <= 0.11 where b_e is within the
+      // series' bound, inside exp_sym_small's
+      Sym3 X;
+      if (!exp_sym_small(scaled(sym_of(dep), -2.0), X)) return ReturnStatus::BAD_DEFORMATION;
+      store_sym(plus_identity(congruence(Finv, mul_commuting(be, X)), -1.0), h1 + Hist::PLASTIC);
     }
     return P.allFinite() ? ReturnStatus::OK : ReturnStatus::BAD_DEFORMATION;
   }
   // otherwise in b_e's principal frame, where e and tau stay diagonal
-  Eigen::SelfAdjointEigenSolver<Mat3> eig(be);
+  Eigen::SelfAdjointEigenSolver<Mat3> eig(mat_of(be));
   if (eig.info() != Eigen::Success) return ReturnStatus::BAD_DEFORMATION;
   const Vec3 lam2 = eig.eigenvalues();
   if (!(lam2.minCoeff() > 0.0)) return ReturnStatus::BAD_DEFORMATION;

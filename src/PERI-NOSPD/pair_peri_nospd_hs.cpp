@@ -72,6 +72,16 @@ NOSPD_KERNEL_CLONES bool evaluate(const BondPattern &p, HSForm form, NOSPD::Law 
 {
   return NOSPD::evaluate_families<DIM, L>(p, form, law, plane, in, energy, s, out);
 }
+// one bond's plastic return (point_core, the return mapping, the log and
+// exp series inlined), built for the CPU like the bond sums
+NOSPD_KERNEL_CLONES NOSPD::ReturnStatus bond_return_kernel(
+    NOSPD::Law law, NOSPD::Plane plane, const NOSPD::Lame &m, const NOSPD::FlowLaw &fl,
+    const NOSPD::ThermalLaw &th, const NOSPD::PointEnv &env, NOSPD::Mat3 &F, const double *pn,
+    double *p1, NOSPD::Mat3 &P, double &W)
+{
+  return NOSPD::detail::bond_return(law, plane, m, fl, th, env, F, pn, p1, P, W);
+}
+
 // the stencil's points [from, to) of a run: forces four at a time (the
 // last ones two or one at a time: the same bits), then each point's F and
 // mean bond H
@@ -430,6 +440,7 @@ void PairPeriNospdHS::begin_history(int i, const BondPattern &p, FamilyWork &w, 
     law.env.dt = update->dt;
     law.env.T_base = temperature_base[i];
     law.env.rho = atom->rmass[i];
+    law.bond_return = bond_return_kernel;
     rows = &law;
     laws.active = &law;
   } else if (is_umat(itype)) {

@@ -222,6 +222,36 @@ TEST(Plasticity, UniaxialCurveHeated)
 // near-isotropic tensors of every scale of distortion (exact multiples of
 // the identity and double eigenvalues included); beyond their range
 // (|Y| > 0.05, |D| > 0.2) or for b not positive definite they decline
+// The six-value products the series use: A B of commuting symmetric
+// tensors (polynomials in one tensor) and the congruence A S A^T, against
+// Eigen's full products.
+TEST(Plasticity, SymmetricProducts)
+{
+  std::mt19937 gen(31);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int t = 0; t < 200; ++t) {
+    Mat3 G;
+    for (int k = 0; k < 9; ++k) G(k / 3, k % 3) = u(gen);
+    const Mat3 S = 0.5 * (G + G.transpose());
+    // A and B commute: both are polynomials in S
+    const Mat3 A = 0.3 * Mat3::Identity() + S - 0.2 * S * S;
+    const Mat3 B = -1.1 * Mat3::Identity() + 0.7 * S + 0.4 * S * S;
+    const Mat3 AB = mat_of(mul_commuting(sym_of(A), sym_of(B)));
+    EXPECT_LT((AB - A * B).cwiseAbs().maxCoeff(), 1e-14);
+    Mat3 F;
+    for (int k = 0; k < 9; ++k) F(k / 3, k % 3) = u(gen);
+    const Mat3 C = mat_of(congruence(F, sym_of(S)));
+    EXPECT_LT((C - F * S * F.transpose()).cwiseAbs().maxCoeff(), 1e-14);
+    EXPECT_EQ(C, C.transpose());
+    const Sym3 s = sym_of(S);
+    EXPECT_NEAR(norm2(s), S.squaredNorm(), 1e-14);
+    EXPECT_EQ(mat_of(plus_identity(s, 2.5)), S + 2.5 * Mat3::Identity());
+    double v[6];
+    store_sym(s, v);
+    EXPECT_EQ(mat_of(load_sym3(v)), S);
+  }
+}
+
 TEST(Plasticity, LogAndExpSeriesMatchEigen)
 {
   std::mt19937 gen(29);
