@@ -145,6 +145,12 @@ class FamilyPlasticity : public BondLaw, public FamilyRows {
     }
     for (double &v : sum) v = 0.0;
     for (double &v : plastic) v = 0.0;
+    // the bonds share the family's rate and temperature: the flow stress's
+    // factor of the two once for all of them
+    env.has_factor = fl->active;
+    if (fl->active)
+      env.factor = fl->factor(replay ? hn[FamilyHist::RATE_USED] : hn[Hist::RATE],
+                              env.T_base + (replay ? hn[FamilyHist::HEAT_USED] : hn[Hist::HEAT]));
   }
 
   bool stress(int slot, Mat3 &F, Mat3 &P, double &W) override

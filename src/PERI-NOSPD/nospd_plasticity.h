@@ -125,22 +125,40 @@ struct FlowLaw {
     return Ts > 0.0 ? 1.0 - std::pow(Ts, m) : 1.0;
   }
 
+  // the factor of rate and temperature, sigma_y = factor * hardening: one
+  // power and one logarithm, which a return takes once (a bond-associated
+  // family once for all its bonds, which share its rate and temperature)
+  double factor(double rate, double T) const
+  {
+    double sr;
+    return thermal_factor(T) * rate_factor(rate, sr);
+  }
+
+  // sigma_y(a) at a given factor, and its slope d/da
+  double flow_at(double a, double f, double &slope) const
+  {
+    double sh;
+    const double h = hardening(a, sh);
+    slope = f * sh;
+    return f * h;
+  }
+
   // sigma_y(a_n + d, rate, T) and d sigma_y / d d (rate and T frozen)
   double flow(double a_n, double d, double rate, double T, double &slope) const
   {
-    double sh, sr;
-    const double h = hardening(a_n + d, sh);
-    const double f = thermal_factor(T) * rate_factor(rate, sr);
-    slope = f * sh;
-    return f * h;
+    return flow_at(a_n + d, factor(rate, T), slope);
   }
 
   // int_0^d sigma_y(a_n + s, rate, T) ds, in closed form
   double work(double a_n, double d, double rate, double T) const
   {
+    return work_at(a_n, d, factor(rate, T));
+  }
+
+  // the same at a given factor
+  double work_at(double a_n, double d, double f) const
+  {
     if (d <= 0.0) return 0.0;
-    double sr;
-    const double f = thermal_factor(T) * rate_factor(rate, sr);
     if (kind == Hardening::LINEAR) return f * (sigma_y0 * d + H * (a_n * d + 0.5 * d * d));
     // (a_n + d)^(n+1) - a_n^(n+1) without the cancellation of a small d
     const double rise = a_n > 0.0
@@ -165,6 +183,10 @@ struct PointEnv {
   double dt = 0.0;        // time step of the increment (plastic rate)
   double T_base = 0.0;    // temperature set by the user (adiabatic rise is added)
   double rho = 0.0;       // mass density (heating)
+  // FlowLaw::factor of the history's rate and temperature, if the caller
+  // has it (has_factor); else the return computes it
+  bool has_factor = false;
+  double factor = 1.0;
 };
 
 enum class ReturnStatus { OK, NO_CONVERGENCE, BAD_DEFORMATION };
@@ -175,33 +197,25 @@ namespace detail {
      solves q - (3 mu + Hkin) d - sigma_y(a_n + d) = 0 for d >= 0 by
      Newton's method kept inside a shrinking bracket [lo, hi].  Returns
      false if it does not converge. */
-  inline bool solve_return(const FlowLaw &fl, double mu, double q, double a_n, double rate,
-                           double T, double &d)
+  inline bool solve_return(const FlowLaw &fl, double mu, double q, double a_n, double f,
+                           double sy0, double slope0, double &d)
   {
     const double g3 = 3.0 * mu + fl.Hkin;
     double lo = 0.0, hi = q / g3;    // r(lo) > 0 >= r(hi) since sigma_y >= 0
     if (fl.kind == Hardening::LINEAR) {
-      double s;
-      const double f = fl.thermal_factor(T) * fl.rate_factor(rate, s);
-      d = (q - f * fl.hardening(a_n, s)) / (g3 + f * fl.H);
+      d = (q - sy0) / (g3 + f * fl.H);
       return std::isfinite(d);
     }
     const double scale = std::max(q, 1.0e-300);
-    // rate and temperature are frozen: their factor once, one power a step
-    double s;
-    const double f = fl.thermal_factor(T) * fl.rate_factor(rate, s);
-    auto flow = [&](double dd, double &slope) {
-      const double h = fl.hardening(a_n + dd, slope);
-      slope *= f;
-      return f * h;
-    };
+    // rate and temperature are frozen (their factor f): one power a step
+    auto flow = [&](double dd, double &slope) { return fl.flow_at(a_n + dd, f, slope); };
     // after the first yield, start from the linearization at d = 0 (one
-    // Newton step): the increments of a time step are small, and it lands
-    // close to the root (at a_n = 0 the slope may be infinite: mid-bracket)
+    // Newton step; sy0 and slope0 are the flow stress and slope there):
+    // the increments of a time step are small, and it lands close to the
+    // root (at a_n = 0 the slope may be infinite: mid-bracket)
     d = 0.5 * hi;
     if (a_n > 0.0) {
-      double slope0;
-      const double r0 = q - flow(0.0, slope0);
+      const double r0 = q - sy0;
       const double d0 = r0 / (g3 + slope0);
       if (d0 > lo && d0 < hi) d = d0;
     }
@@ -253,11 +267,12 @@ namespace detail {
       const double q = std::sqrt(1.5) * norm;
       const double a_n = hn[Hist::EQPS];
       const double rate_n = hn[Hist::RATE];
+      const double f = env.has_factor ? env.factor : fl.factor(rate_n, T);
       double s0;
-      const double sy = fl.flow(a_n, 0.0, rate_n, T, s0);
+      const double sy = fl.flow_at(a_n, f, s0);
       if (q > sy && norm > 0.0) {
         double d = 0.0;
-        if (!solve_return(fl, m.mu, q, a_n, rate_n, T, d) || !(d >= 0.0)) return false;
+        if (!solve_return(fl, m.mu, q, a_n, f, sy, s0, d) || !(d >= 0.0)) return false;
         const Mat3 N = (1.5 / q) * eta;    // flow direction, dep = d N, |N| = sqrt(3/2)
         dep = d * N;
         e -= dep;
@@ -268,7 +283,7 @@ namespace detail {
         h1[Hist::YIELDING] = 1.0;
         // plastic work: flow-stress integral plus the change of the
         // kinematic stored energy (3/4) |beta|^2 / Hkin
-        double dD = fl.work(a_n, d, rate_n, T);
+        double dD = fl.work_at(a_n, d, f);
         if (fl.Hkin > 0.0)
           dD += 0.75 * (beta1.squaredNorm() - beta.squaredNorm()) / fl.Hkin;
         h1[Hist::WORK] = hn[Hist::WORK] + dD;
@@ -387,8 +402,14 @@ inline ReturnStatus inelastic_point_3d(Law law, const Lame &m, const FlowLaw &fl
                                        const ThermalLaw &th, const PointEnv &env, const Mat3 &F,
                                        const double *hn, double *h1, Mat3 &P, double &W)
 {
+  // both returns below start from hn: one factor of its rate and temperature
+  PointEnv env1 = env;
+  if (fl.active && !env1.has_factor) {
+    env1.has_factor = true;
+    env1.factor = fl.factor(hn[Hist::RATE], env.T_base + hn[Hist::HEAT]);
+  }
   double W_trial;
-  const ReturnStatus st = detail::point_core(law, m, fl, th, env, F, hn, h1, P, W, W_trial);
+  const ReturnStatus st = detail::point_core(law, m, fl, th, env1, F, hn, h1, P, W, W_trial);
   if (st != ReturnStatus::OK) return st;
   h1[Hist::RATE] = strain_rate(law, F, hn, env.dt);
   if (fl.active && fl.kind == Hardening::JOHNSON_COOK) {
@@ -396,7 +417,7 @@ inline ReturnStatus inelastic_point_3d(Law law, const Lame &m, const FlowLaw &fl
     Mat3 Pp;
     double Wp, Wtp;
     const Mat3 Fp = Mat3::Identity() + load(hn + Hist::FPREV);
-    if (detail::point_core(law, m, fl, th, env, Fp, hn, hp, Pp, Wp, Wtp) == ReturnStatus::OK) {
+    if (detail::point_core(law, m, fl, th, env1, Fp, hn, hp, Pp, Wp, Wtp) == ReturnStatus::OK) {
       const double relax = Wtp - Wp - (hp[Hist::WORK] - hn[Hist::WORK]);
       if (relax > 0.0) {
         h1[Hist::WORK] += relax;
