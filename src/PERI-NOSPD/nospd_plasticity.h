@@ -143,12 +143,6 @@ struct FlowLaw {
     return f * h;
   }
 
-  // sigma_y(a_n + d, rate, T) and d sigma_y / d d (rate and T frozen)
-  double flow(double a_n, double d, double rate, double T, double &slope) const
-  {
-    return flow_at(a_n + d, factor(rate, T), slope);
-  }
-
   // int_0^d sigma_y(a_n + s, rate, T) ds, in closed form
   double work(double a_n, double d, double rate, double T) const
   {
