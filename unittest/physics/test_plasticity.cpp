@@ -341,6 +341,52 @@ TEST_P(Inelastic, StrainRateOfSteadyShear)
   }
 }
 
+// An evaluation at the configuration of the last accepted step (run 0 after
+// it, a thermo or restart setup) gives that step's forces and energy, even
+// where the step changed what the next one starts from: under Johnson-Cook
+// with the rate term and adiabatic heating, a step at a third of the rate
+// of the one before leaves a lower lagged rate and a hotter body, but its
+// own return used the earlier rate and temperature.  Taking the new ones
+// instead would lower the flow stress below the accepted stress of every
+// yielding point, which would yield again.
+TEST_P(Inelastic, AcceptedConfigurationGivesTheStepsForces)
+{
+  const double g = 1000.0, dt = 1e-6;
+  block("strain hencky temperature v_T",
+        "johnson_cook 9e7 2.92e8 0.31 0.025 1.0 1.09 298 1356 heat 383 0.9", 7);
+  cmd(lmp, "variable T atom 400.0");
+  cmd(lmp, "compute s all nospd/atom strain_rate eqps");
+  cmd(lmp, "timestep " + num(dt));
+  cmd(lmp, "run 0");
+  const NOSPD::Vec3 c(0.003, 0.003, 0.003);
+  NOSPD::Mat3 F = NOSPD::Mat3::Identity();
+  for (double rate : {3.0 * g, 3.0 * g, g}) {
+    F(0, 1) += rate * dt;
+    F(0, 0) += 0.3 * rate * dt;
+    place_affine(lmp, F, c);
+    cmd(lmp, "run 1");    // no integrator: the atoms stay, the step is accepted
+  }
+  const auto f_step = by_tag(lmp, lmp->atom->f);
+  const double pe_step = potential_energy(lmp);
+  // the step yielded and left a rate below the one it used
+  double eqmax = 0.0, rmax = 0.0;
+  for (double a : peratom(lmp, "s", 1)) eqmax = std::max(eqmax, a);
+  for (double r : peratom(lmp, "s", 0)) rmax = std::max(rmax, r);
+  ASSERT_GT(eqmax, 1e-3);
+  ASSERT_LT(rmax, 2.0 * g / std::sqrt(3.0));
+
+  cmd(lmp, "run 0");
+  const auto f_again = by_tag(lmp, lmp->atom->f);
+  double fscale = 0.0;
+  for (const auto &f : f_step)
+    for (double v : f) fscale = std::max(fscale, std::abs(v));
+  ASSERT_GT(fscale, 0.0);
+  for (size_t i = 0; i < f_step.size(); i++)
+    for (int k = 0; k < 3; k++)
+      ASSERT_NEAR(f_again[i][k], f_step[i][k], 1e-12 * fscale) << "atom " << i + 1;
+  EXPECT_NEAR(potential_energy(lmp), pe_step, 1e-12 * std::abs(pe_step));
+}
+
 // minimize is one load step: its line-search evaluations accept nothing,
 // its converged state is accepted at its end.  A periodic body strained
 // past yield and perturbed relaxes back to the uniform state; its plastic
