@@ -2,7 +2,7 @@
 """Final shape of a Taylor bar from a LAMMPS custom dump (id x y z ...).
 
 usage: taylor_bar.py DUMP [--spacing DX] [--check L_REF,D_REF,TOL_L,TOL_D]
-                     [--l0 L0 --d0 D0] [--plot OUT.png]
+                     [--l0 L0 --d0 D0] [--plot OUT.png] [--reference NAME]
 
 Prints the length (max z - min z) and the footprint diameter: twice the
 largest distance from the bar axis (the mean x, y of the rear quarter) of
@@ -12,7 +12,8 @@ unless the length and diameter are within TOL_L and TOL_D (relative) of the
 reference values; the closing line is 'N passed, N failed'.  --plot draws
 the cut |y - y_axis| < DX/2 in the x-z plane coloured by the dump's column
 c_s[1] (equivalent plastic strain), with the initial outline dashed and,
-with --check, the reference length and footprint marked."""
+with --check, the reference length and footprint marked (labelled NAME,
+default 'experiment')."""
 import argparse
 import sys
 
@@ -29,6 +30,7 @@ def main():
     ap.add_argument("--l0", type=float, default=25.4e-3)
     ap.add_argument("--d0", type=float, default=7.62e-3)
     ap.add_argument("--plot", default=None)
+    ap.add_argument("--reference", default="experiment")
     a = ap.parse_args()
     step, d = read_dump(a.dump)
     x, y, z = d["x"], d["y"], d["z"]
@@ -72,9 +74,9 @@ def plot(a, d, cx, cy, zmin, length, diameter):
     ax.plot([-r0, -r0, r0, r0], [0, l0, l0, 0], "k--", lw=0.8, label="initial")
     if a.check:
         lref, dref = (float(v) for v in a.check.split(",")[:2])
-        ax.axhline(lref * 1e3, color="r", lw=0.8, label="experiment: length")
+        ax.axhline(lref * 1e3, color="r", lw=0.8, label=f"{a.reference}: length")
         ax.plot([-0.5 * dref * 1e3, 0.5 * dref * 1e3], [0, 0], "r", lw=3,
-                label="experiment: footprint")
+                label=f"{a.reference}: footprint")
     ax.set_aspect("equal")
     ax.set_xlabel("x (mm)")
     ax.set_ylabel("z (mm)")
