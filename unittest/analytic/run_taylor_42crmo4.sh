@@ -6,8 +6,9 @@
 # the flow stress sets (10, 15, 20 across: 0.1, 0.8, 0.3 % short; without
 # the rate term 1.9 % short, so a wrong rate term fails here).  The
 # footprint is held only to its own value as a regression guard (8.95 mm
-# at 10 across, 20 % short of the finite elements': the horizon smooths
-# the flare, see the example's README).  ke + pe + plastic work constant
+# at 10 across, 20 % short of the finite elements': the elastic
+# stabilization, and the horizon, hold the flare back; see the example's
+# README).  ke + pe + plastic work constant
 # to 1e-4.
 # usage: run_taylor_42crmo4.sh LMP WORKDIR
 set -euo pipefail
