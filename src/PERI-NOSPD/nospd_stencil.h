@@ -24,6 +24,13 @@
    second derivation of it: forces agree with the family path to round-off.
    On the benchmark grid (3D, delta = 3 dx, ratio 1) a point costs 414
    block products against two ~55-member sums per bond of its family.
+
+   Near a surface the families within delta of a point have many patterns
+   and the operator is not centrosymmetric; points that share their whole
+   neighbourhood (the patterns of their own and their partners' families,
+   at the same offsets) share a one-sided stencil, assembled from each
+   family's blocks A_km (PointStencilBuilder), f_i = sum_d S_d (u_{i+d} -
+   u_i) over every offset on its own.
 ------------------------------------------------------------------------- */
 
 #ifndef NOSPD_STENCIL_H
@@ -43,11 +50,15 @@ struct Stencil {
   bool ok = false;
   int dim = 3;
   double h[3] = {0.0, 0.0, 0.0};    // lattice spacing along x, y, z
-  // pairs (+d, -d): the integer offset d (3 each) and S_d by columns,
-  // each column 4 doubles (12 per pair)
+  // centrosymmetric (a grid's inside): pairs (+d, -d), the integer offset
+  // d (3 each) and S_d by columns, each column 4 doubles (12 per pair).
+  // one_sided (a point near a surface, build_point_stencil): every offset
+  // d != 0 on its own, f_i = sum_d S_d (u_{i+d} - u_i)
+  bool one_sided = false;
   std::vector<int> pair_off;
   std::vector<double> pair_block;
-  // family slots in pairs (+e, -e): e (3 each), aF and aH of +e (4 each)
+  // family slots in pairs (+e, -e): e (3 each), aF and aH of +e (4 each);
+  // one-sided: every slot e_k with its aF_k and aH_k
   std::vector<int> slot_off;
   std::vector<double> slot_aF, slot_aH;
   // the pattern has singular bond families: the family's F passes
@@ -79,6 +90,132 @@ namespace detail {
   }
 }    // namespace detail
 
+/* The lattice of a pattern: the smallest offset along each axis (false
+   where an axis has none) */
+template <int DIM> bool pattern_lattice(const BondPattern &p, double *h)
+{
+  for (int c = 0; c < 3; ++c) h[c] = 0.0;
+  for (int c = 0; c < DIM; ++c) {
+    double hc = 0.0;
+    for (int k = 0; k < p.n; ++k) {
+      const double a = std::abs(p.b[3 * k + c]);
+      if (a > 0.0 && (hc == 0.0 || a < hc)) hc = a;
+    }
+    if (hc == 0.0) return false;
+    h[c] = hc;
+  }
+  return true;
+}
+
+/* The slots' offsets in whole spacings h; false where one is off the
+   lattice */
+template <int DIM>
+bool lattice_offsets(const BondPattern &p, const double *h, std::vector<detail::Offset> &e)
+{
+  e.assign(p.n, {0, 0, 0});
+  for (int k = 0; k < p.n; ++k)
+    for (int c = 0; c < DIM; ++c) {
+      const double q = p.b[3 * k + c] / h[c];
+      e[k][c] = (int) std::lround(q);
+      if (std::abs(q - e[k][c]) > 1.0e-8) return false;
+    }
+  return true;
+}
+
+/* The family's operator A_km, by columns (block (k, m) at 9 (k n + m),
+   row-major): the force state t_k for a unit displacement of member m
+   along each axis, read off the family evaluation itself, one call per
+   unit displacement (the spacing `unit` keeps the probe's numbers
+   ordinary).  False where the family has no evaluation (no shape tensor). */
+template <int DIM>
+bool family_operator(const BondPattern &p, HSForm form, Law law, Plane plane, const Lame &m,
+                     const LinearLaw &lin, double unit, std::vector<double> &A)
+{
+  const int n = p.n;
+  A.assign((size_t) 9 * n * n, 0.0);
+  std::vector<double> U(3 * n + 1, 0.0), t(3 * n + 1, 0.0);
+  StateScratch scratch;
+  StateOutput out;
+  for (int mm = 0; mm < n; ++mm)
+    for (int a = 0; a < DIM; ++a) {
+      U[3 * mm + a] = unit;
+      if (!evaluate_family<DIM>(p, form, law, plane, m, lin, false, U.data(), t.data(), scratch,
+                                out))
+        return false;
+      U[3 * mm + a] = 0.0;
+      for (int k = 0; k < n; ++k)
+        for (int r = 0; r < DIM; ++r) A[((size_t) k * n + mm) * 9 + 3 * r + a] = t[3 * k + r] / unit;
+    }
+  return true;
+}
+
+/* The slots' gradients: F - I = sum_k U_k (x) aF_k, Hbar = sum_k U_k (x) aH_k */
+template <int DIM>
+void slot_gradients(const BondPattern &p, std::vector<std::array<double, 3>> &aF,
+                    std::vector<std::array<double, 3>> &aH)
+{
+  constexpr int NC = DIM * DIM;
+  const int n = p.n;
+  auto kinv_b = [&](const double *Ki, int k, double *out3) {
+    for (int r = 0; r < 3; ++r) out3[r] = 0.0;
+    for (int r = 0; r < DIM; ++r)
+      for (int c = 0; c < DIM; ++c) out3[r] += Ki[r * DIM + c] * p.b[3 * k + c];
+  };
+  double cs_beta = 0.0;
+  for (int j = 0; j < n; ++j)
+    if (p.singular[j]) cs_beta += p.beta[j];
+  aF.assign(n, {0.0, 0.0, 0.0});
+  aH.assign(n, {0.0, 0.0, 0.0});
+  for (int k = 0; k < n; ++k) {
+    double v[3], acc[3] = {0.0, 0.0, 0.0};
+    kinv_b(p.kinv_full, k, v);
+    for (int r = 0; r < 3; ++r) {
+      aF[k][r] = p.w[k] * v[r];
+      acc[r] = cs_beta * v[r];
+    }
+    const uint16_t *runs = &p.runs[2 * p.run_first[k]];
+    for (int q = 0; q < p.run_first[k + 1] - p.run_first[k]; ++q)
+      for (int j = runs[2 * q]; j < runs[2 * q + 1]; ++j) {
+        if (p.singular[j]) continue;
+        kinv_b(&p.kinv[NC * j], k, v);
+        for (int r = 0; r < 3; ++r) acc[r] += p.beta[j] * v[r];
+      }
+    for (int r = 0; r < 3; ++r) aH[k][r] = p.w[k] * acc[r];
+  }
+}
+
+/* Offset d and its block S_d (row-major) appended, by columns padded to 4 */
+inline void append_block(Stencil &st, const detail::Offset &d, const double *blk)
+{
+  for (int c = 0; c < 3; ++c) st.pair_off.push_back(d[c]);
+  for (int c = 0; c < 3; ++c) {
+    for (int r = 0; r < 3; ++r) st.pair_block.push_back(blk[3 * r + c]);
+    st.pair_block.push_back(0.0);
+  }
+}
+
+/* Blocks in memory order of a grid whose x runs fastest: consecutive
+   blocks read neighbouring cells */
+inline void sort_blocks_zyx(std::vector<int> &off, std::vector<double> &block)
+{
+  const int nb = (int) off.size() / 3;
+  std::vector<int> order(nb);
+  for (int q = 0; q < nb; ++q) order[q] = q;
+  auto zyx = [&](int q) {
+    const int *o = &off[3 * q];
+    return std::array<int, 3>{o[2], o[1], o[0]};
+  };
+  std::sort(order.begin(), order.end(), [&](int a, int b) { return zyx(a) < zyx(b); });
+  std::vector<int> o2(3 * nb);
+  std::vector<double> b2(12 * nb);
+  for (int q = 0; q < nb; ++q) {
+    std::copy_n(&off[3 * order[q]], 3, &o2[3 * q]);
+    std::copy_n(&block[12 * order[q]], 12, &b2[12 * q]);
+  }
+  off.swap(o2);
+  block.swap(b2);
+}
+
 /* The stencil of the families of pattern p under the linear law lin
    (form, law and plane as the family path takes them).  Not ok where the
    law is not linear, the family has no shape tensor, the offsets are not
@@ -95,26 +232,11 @@ Stencil build_stencil(const BondPattern &p, HSForm form, Law law, Plane plane, c
 
   // the lattice: the smallest offset along each axis, every offset a
   // whole multiple of it
-  for (int c = 0; c < DIM; ++c) {
-    double h = 0.0;
-    for (int k = 0; k < n; ++k) {
-      const double a = std::abs(p.b[3 * k + c]);
-      if (a > 0.0 && (h == 0.0 || a < h)) h = a;
-    }
-    if (h == 0.0) return st;
-    st.h[c] = h;
-  }
-  std::vector<Offset> e(n);
+  if (!pattern_lattice<DIM>(p, st.h)) return st;
+  std::vector<Offset> e;
+  if (!lattice_offsets<DIM>(p, st.h, e)) return st;
   std::map<Offset, int> slot_at;
-  for (int k = 0; k < n; ++k) {
-    e[k] = {0, 0, 0};
-    for (int c = 0; c < DIM; ++c) {
-      const double q = p.b[3 * k + c] / st.h[c];
-      e[k][c] = (int) std::lround(q);
-      if (std::abs(q - e[k][c]) > 1.0e-8) return st;
-    }
-    slot_at[e[k]] = k;
-  }
+  for (int k = 0; k < n; ++k) slot_at[e[k]] = k;
   std::vector<int> mirror(n);
   for (int k = 0; k < n; ++k) {
     auto it = slot_at.find(detail::neg(e[k]));
@@ -123,21 +245,8 @@ Stencil build_stencil(const BondPattern &p, HSForm form, Law law, Plane plane, c
   }
 
   // A_km by columns: the force state for a unit displacement of member m
-  // along a (the spacing as the unit keeps the probe's numbers ordinary)
-  const double unit = st.h[0];
-  std::vector<double> A((size_t) 9 * n * n, 0.0), U(3 * n + 1, 0.0), t(3 * n + 1, 0.0);
-  StateScratch scratch;
-  StateOutput out;
-  for (int mm = 0; mm < n; ++mm)
-    for (int a = 0; a < DIM; ++a) {
-      U[3 * mm + a] = unit;
-      if (!evaluate_family<DIM>(p, form, law, plane, m, lin, false, U.data(), t.data(), scratch,
-                                out))
-        return st;
-      U[3 * mm + a] = 0.0;
-      for (int k = 0; k < n; ++k)
-        for (int r = 0; r < DIM; ++r) A[((size_t) k * n + mm) * 9 + 3 * r + a] = t[3 * k + r] / unit;
-    }
+  std::vector<double> A;
+  if (!family_operator<DIM>(p, form, law, plane, m, lin, st.h[0], A)) return st;
 
   // S_d from the point's own family and the families it belongs to
   std::map<Offset, std::array<double, 9>> S;
@@ -173,62 +282,15 @@ Stencil build_stencil(const BondPattern &p, HSForm form, Law law, Plane plane, c
       big = std::max(big, std::abs(blk[q]));
     }
     if (big <= 1.0e-14 * scale) continue;
-    for (int c = 0; c < 3; ++c) st.pair_off.push_back(kv.first[c]);
-    for (int c = 0; c < 3; ++c) {    // column c of S_d, padded to 4
-      for (int r = 0; r < 3; ++r) st.pair_block.push_back(blk[3 * r + c]);
-      st.pair_block.push_back(0.0);
-    }
+    append_block(st, kv.first, blk);
   }
 
-  // pairs in memory order of a grid whose x runs fastest: consecutive
-  // blocks read neighbouring cells
-  {
-    const int np = st.npairs();
-    std::vector<int> order(np);
-    for (int q = 0; q < np; ++q) order[q] = q;
-    auto zyx = [&](int q) {
-      const int *o = &st.pair_off[3 * q];
-      return std::array<int, 3>{o[2], o[1], o[0]};
-    };
-    std::sort(order.begin(), order.end(), [&](int a, int b) { return zyx(a) < zyx(b); });
-    std::vector<int> off(3 * np);
-    std::vector<double> blocks(12 * np);
-    for (int q = 0; q < np; ++q) {
-      std::copy_n(&st.pair_off[3 * order[q]], 3, &off[3 * q]);
-      std::copy_n(&st.pair_block[12 * order[q]], 12, &blocks[12 * q]);
-    }
-    st.pair_off.swap(off);
-    st.pair_block.swap(blocks);
-  }
+  sort_blocks_zyx(st.pair_off, st.pair_block);
 
   // aF_k and aH_k
-  constexpr int NC = DIM * DIM;
-  auto kinv_b = [&](const double *Ki, int k, double *out3) {
-    for (int r = 0; r < 3; ++r) out3[r] = 0.0;
-    for (int r = 0; r < DIM; ++r)
-      for (int c = 0; c < DIM; ++c) out3[r] += Ki[r * DIM + c] * p.b[3 * k + c];
-  };
-  double cs_beta = 0.0;
-  for (int j = 0; j < n; ++j)
-    if (p.singular[j]) cs_beta += p.beta[j];
+  std::vector<std::array<double, 3>> aF, aH;
+  slot_gradients<DIM>(p, aF, aH);
   st.family_fallback = p.nsingular > 0;
-  std::vector<std::array<double, 3>> aF(n), aH(n);
-  for (int k = 0; k < n; ++k) {
-    double v[3], acc[3] = {0.0, 0.0, 0.0};
-    kinv_b(p.kinv_full, k, v);
-    for (int r = 0; r < 3; ++r) {
-      aF[k][r] = p.w[k] * v[r];
-      acc[r] = cs_beta * v[r];
-    }
-    const uint16_t *runs = &p.runs[2 * p.run_first[k]];
-    for (int q = 0; q < p.run_first[k + 1] - p.run_first[k]; ++q)
-      for (int j = runs[2 * q]; j < runs[2 * q + 1]; ++j) {
-        if (p.singular[j]) continue;
-        kinv_b(&p.kinv[NC * j], k, v);
-        for (int r = 0; r < 3; ++r) acc[r] += p.beta[j] * v[r];
-      }
-    for (int r = 0; r < 3; ++r) aH[k][r] = p.w[k] * acc[r];
-  }
   double ascale = 0.0;
   for (int k = 0; k < n; ++k)
     for (int r = 0; r < 3; ++r) ascale = std::max({ascale, std::abs(aF[k][r]), std::abs(aH[k][r])});
@@ -250,6 +312,116 @@ Stencil build_stencil(const BondPattern &p, HSForm form, Law law, Plane plane, c
   return st;
 }
 
+/* The one-sided stencil of a point whose neighbourhood is not one
+   pattern (near a surface, an interface, broken bonds), assembled from
+   the operators of the families that reach it: its own,
+       f_i += sum_k w_k t_k,   t_k = sum_m A_km (u_{i+e_m} - u_i),
+   and each family centred at i + a in which it is slot s,
+       f_i -= (V_{i+a} / V_i) w_s t_s.
+   The offsets d reach 2 delta: at most R lattice spacings along each
+   axis. */
+class PointStencilBuilder {
+ public:
+  PointStencilBuilder(int dim, int R) :
+      dim_(dim), R_(R), side_(2 * R + 1), S_((size_t) 9 * side_ * side_ * (dim == 3 ? side_ : 1), 0.0)
+  {
+  }
+
+  // the point's own family (e: its slots' offsets, w: its weights)
+  bool add_own(const std::vector<detail::Offset> &e, const std::vector<double> &w,
+               const std::vector<double> &A)
+  {
+    const int n = (int) e.size();
+    const detail::Offset zero{0, 0, 0};
+    for (int k = 0; k < n; ++k)
+      for (int m = 0; m < n; ++m)
+        if (!add(e[m], zero, &A[((size_t) k * n + m) * 9], w[k])) return false;
+    return true;
+  }
+
+  // the family centred at offset a, of which the point is slot s; ws =
+  // (V_{i+a} / V_i) w_s
+  bool add_member(const detail::Offset &a, const std::vector<detail::Offset> &e,
+                  const std::vector<double> &A, int s, double ws)
+  {
+    const int n = (int) e.size();
+    for (int m = 0; m < n; ++m) {
+      const detail::Offset d{a[0] + e[m][0], a[1] + e[m][1], a[2] + e[m][2]};
+      if (!add(d, a, &A[((size_t) s * n + m) * 9], -ws)) return false;
+    }
+    return true;
+  }
+
+  // the stencil: the blocks d != 0 above round-off, and the own family's
+  // slots for F and the mean bond H
+  template <int DIM>
+  Stencil finish(const BondPattern &own, const std::vector<detail::Offset> &e, const double *h)
+  {
+    Stencil st;
+    st.dim = DIM;
+    st.one_sided = true;
+    for (int c = 0; c < 3; ++c) st.h[c] = h[c];
+    double scale = 0.0;
+    for (double v : S_) scale = std::max(scale, std::abs(v));
+    if (scale == 0.0) return st;
+    const int zside = DIM == 3 ? side_ : 1;
+    for (int z = 0; z < zside; ++z)
+      for (int y = 0; y < side_; ++y)
+        for (int x = 0; x < side_; ++x) {
+          const detail::Offset d{x - R_, y - R_, DIM == 3 ? z - R_ : 0};
+          if (d[0] == 0 && d[1] == 0 && d[2] == 0) continue;
+          const double *blk = &S_[9 * cell(d)];
+          double big = 0.0;
+          for (int q = 0; q < 9; ++q) big = std::max(big, std::abs(blk[q]));
+          if (big > 1.0e-14 * scale) append_block(st, d, blk);
+        }
+    sort_blocks_zyx(st.pair_off, st.pair_block);
+    std::vector<std::array<double, 3>> aF, aH;
+    slot_gradients<DIM>(own, aF, aH);
+    st.family_fallback = own.nsingular > 0;
+    for (int k = 0; k < own.n; ++k) {
+      for (int c = 0; c < 3; ++c) st.slot_off.push_back(e[k][c]);
+      for (int r = 0; r < 3; ++r) {
+        st.slot_aF.push_back(aF[k][r]);
+        st.slot_aH.push_back(aH[k][r]);
+      }
+      st.slot_aF.push_back(0.0);
+      st.slot_aH.push_back(0.0);
+    }
+    st.ok = true;
+    return st;
+  }
+
+  double bytes() const { return 8.0 * S_.size(); }
+
+ private:
+  int dim_, R_, side_;
+  std::vector<double> S_;    // S_d by cell of the cube |d_c| <= R, 9 each (row-major)
+
+  size_t cell(const detail::Offset &d) const
+  {
+    const size_t z = dim_ == 3 ? (size_t) (d[2] + R_) : 0;
+    return (size_t) (d[0] + R_) + side_ * ((size_t) (d[1] + R_) + side_ * z);
+  }
+  bool inside(const detail::Offset &d) const
+  {
+    for (int c = 0; c < dim_; ++c)
+      if (d[c] < -R_ || d[c] > R_) return false;
+    return dim_ == 3 || d[2] == 0;
+  }
+  // S_d += scale blk, S_o -= scale blk: each term leaves sum_d S_d = 0
+  bool add(const detail::Offset &d, const detail::Offset &o, const double *blk, double scale)
+  {
+    if (!inside(d) || !inside(o)) return false;
+    double *sd = &S_[9 * cell(d)], *so = &S_[9 * cell(o)];
+    for (int q = 0; q < 9; ++q) {
+      sd[q] += scale * blk[q];
+      so[q] -= scale * blk[q];
+    }
+    return true;
+  }
+};
+
 /* The force densities on the points in cells c[0..NP) (NP = 1, 2 or 4).
    u: displacements by cell, 4 per cell (the fourth unused), so that a
    point's neighbours are u[4 (c +- pair_lin[q])] without an atom lookup.
@@ -257,16 +429,16 @@ Stencil build_stencil(const BondPattern &p, HSForm form, Law law, Plane plane, c
    accumulators (one per column), whose additions do not wait on each
    other across points.  A point's sum is the same bits whichever NP it
    is taken with (which depends on the ranks and threads). */
-template <int DIM, int NP>
+template <int DIM, int NP, bool ONE_SIDED = false>
 inline void stencil_forces(const Stencil &st, const double *u, const long *c, const int *pair_lin,
                            double (*f)[3])
 {
   using namespace simd;
   const double *uc[NP];
-  v4 ui2[NP], a0[NP], a1[NP], a2[NP];
+  v4 ui2[NP], a0[NP], a1[NP], a2[NP];    // ui2: 2 u_i (pairs) or u_i (one-sided)
   for (int p = 0; p < NP; ++p) {
     uc[p] = u + 4 * c[p];
-    ui2[p] = 2.0 * load4(uc[p]);
+    ui2[p] = ONE_SIDED ? load4(uc[p]) : 2.0 * load4(uc[p]);
     a0[p] = a1[p] = a2[p] = v4{};
   }
   const double *blk = st.pair_block.data();
@@ -276,7 +448,8 @@ inline void stencil_forces(const Stencil &st, const double *u, const long *c, co
     const double *c0 = blk + 12 * q;
     const v4 k0 = load4(c0), k1 = load4(c0 + 4);
     for (int p = 0; p < NP; ++p) {
-      const v4 d = (load4(uc[p] + l) + load4(uc[p] - l)) - ui2[p];
+      const v4 d = ONE_SIDED ? load4(uc[p] + l) - ui2[p]
+                             : (load4(uc[p] + l) + load4(uc[p] - l)) - ui2[p];
       a0[p] += k0 * d[0];
       a1[p] += k1 * d[1];
       if (DIM == 3) a2[p] += load4(c0 + 8) * d[2];
@@ -291,17 +464,18 @@ inline void stencil_forces(const Stencil &st, const double *u, const long *c, co
 /* The family's H = F - I and the mean bond H of the point in cell c
    (row-major 3x3, rows and columns past DIM zero); slot_lin as pair_lin
    for the family's slots. */
-template <int DIM>
+template <int DIM, bool ONE_SIDED = false>
 inline void stencil_family(const Stencil &st, const double *u, long c, const int *slot_lin,
                            double *H, double *Hbar)
 {
   using namespace simd;
   const double *uc = u + 4 * c;
   v4 hf[3] = {}, hb[3] = {};
+  const v4 ui = load4(uc);
   const int ns = st.nslots();
   for (int s = 0; s < ns; ++s) {
     const long l = 4L * slot_lin[s];
-    const v4 d = load4(uc + l) - load4(uc - l);
+    const v4 d = ONE_SIDED ? load4(uc + l) - ui : load4(uc + l) - load4(uc - l);
     const v4 af = load4(&st.slot_aF[4 * s]), ah = load4(&st.slot_aH[4 * s]);
     for (int r = 0; r < DIM; ++r) {
       hf[r] += d[r] * af;

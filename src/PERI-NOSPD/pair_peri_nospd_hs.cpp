@@ -49,6 +49,16 @@ static constexpr double WEIGHT_TOL = 1.0e-12;
 // patterns shared by at least this many families get a sum program (its
 // construction costs about as much as evaluating a few hundred families)
 static constexpr int PROGRAM_USERS = 64;
+// a neighbourhood shared by at least this many points gets a one-sided
+// stencil (its assembly costs about as much as evaluating a hundred
+// families, besides the operators of the families it reads)
+static constexpr int POINT_STENCIL_USERS = 4;
+// the one-sided stencils' assembly holds a dense cube of blocks per
+// neighbourhood: at most this many bytes of them at once
+static constexpr double POINT_STENCIL_BATCH_BYTES = 256.0e6;
+// the stencil pass takes points in blocks of this many (its kernel's loop
+// over them is its own)
+static constexpr int STENCIL_BLOCK = 64;
 
 /* the evaluation kernel is built for the generic target and, where the
    compiler can, for AVX2 and AVX-512 (nospd_simd.h): its row sums and 3x3
@@ -85,7 +95,7 @@ NOSPD_KERNEL_CLONES NOSPD::ReturnStatus bond_return_kernel(
 // the stencil's points [from, to) of a run: forces four at a time (the
 // last ones two or one at a time: the same bits), then each point's F and
 // mean bond H
-template <int DIM>
+template <int DIM, bool ONE>
 NOSPD_KERNEL_CLONES void stencil_kernel(const NOSPD::Stencil &st, const double *u,
                                         const int *cells, const int *pair_lin,
                                         const int *slot_lin, int from, int to, double (*f)[3],
@@ -94,18 +104,18 @@ NOSPD_KERNEL_CLONES void stencil_kernel(const NOSPD::Stencil &st, const double *
   int q = from;
   for (; q + 4 <= to; q += 4) {
     const long c[4] = {cells[q], cells[q + 1], cells[q + 2], cells[q + 3]};
-    NOSPD::stencil_forces<DIM, 4>(st, u, c, pair_lin, f + (q - from));
+    NOSPD::stencil_forces<DIM, 4, ONE>(st, u, c, pair_lin, f + (q - from));
   }
   for (; q + 2 <= to; q += 2) {
     const long c[2] = {cells[q], cells[q + 1]};
-    NOSPD::stencil_forces<DIM, 2>(st, u, c, pair_lin, f + (q - from));
+    NOSPD::stencil_forces<DIM, 2, ONE>(st, u, c, pair_lin, f + (q - from));
   }
   if (q < to) {
     const long c[1] = {cells[q]};
-    NOSPD::stencil_forces<DIM, 1>(st, u, c, pair_lin, f + (q - from));
+    NOSPD::stencil_forces<DIM, 1, ONE>(st, u, c, pair_lin, f + (q - from));
   }
   for (q = from; q < to; q++)
-    NOSPD::stencil_family<DIM>(st, u, cells[q], slot_lin, H[q - from], Hbar[q - from]);
+    NOSPD::stencil_family<DIM, ONE>(st, u, cells[q], slot_lin, H[q - from], Hbar[q - from]);
 }
 }    // namespace
 
@@ -221,6 +231,7 @@ void PairPeriNospdHS::init_style()
   comm_forward = MAX(comm_forward, 1);
   // the law may have changed: stencils anew
   pattern_stencils.clear();
+  point_stencils.clear();
   mapped_version = -1;
   reported = false;
   linear_law.assign(atom->ntypes + 1, NOSPD::LinearLaw());
@@ -837,6 +848,7 @@ void PairPeriNospdHS::map_stencils(const std::vector<int> &users)
   const int *type = atom->type;
   const double *vfrac = atom->vfrac;
   stencil_runs.clear();
+  stencil_blocks.clear();
   cell_grid.clear();
   cell_of.clear();
   on_stencil.assign(nall, 0);
@@ -854,14 +866,16 @@ void PairPeriNospdHS::map_stencils(const std::vector<int> &users)
   // that a double holds it exactly (a collision is harmless: the partners'
   // patterns are compared below where they are owned, and volumes and
   // types everywhere)
+  // every owned atom's family key; the keys go to the ghosts.  A key
+  // hashes the pattern's shape and weights and the type into 52 bits, so
+  // that a double holds it exactly.  family_of: key -> (pattern, type) of
+  // the families owned here ((-1, -1) for two that share a key)
   std::vector<const NOSPD::Stencil *> st_of(nlocal, nullptr);
   stencil_key.assign(nall, 0.0);
   std::map<std::pair<int, int>, double> key_of;
+  std::map<double, std::pair<int, int>> family_of;
   for (int i = 0; i < nlocal; i++) {
     const int k = state_pattern[i];
-    if (users[k] < PROGRAM_USERS) continue;
-    st_of[i] = stencil_for(k, type[i]);
-    if (!st_of[i]) continue;
     auto it = key_of.find({k, type[i]});
     if (it == key_of.end()) {
       const BondPattern &p = patterns[k];
@@ -869,18 +883,30 @@ void PairPeriNospdHS::map_stencils(const std::vector<int> &users)
       for (double w : p.w) key.push_back(std::llround(std::log(w) * 1.0e9));
       key.push_back(type[i]);
       it = key_of.emplace(std::make_pair(k, type[i]), (double) ((key_hash(key) >> 12) | 1)).first;
+      auto ins = family_of.emplace(it->second, std::make_pair(k, type[i]));
+      if (!ins.second) ins.first->second = {-1, -1};
     }
     stencil_key[i] = it->second;
+    if (users[k] >= PROGRAM_USERS) st_of[i] = stencil_for(k, type[i]);
   }
   comm_mode = 1;
   comm->forward_comm(this);
 
-  // the cell grid on the lattice of the first stencil
+  // the cell grid on the lattice of the first stencil, else of the most
+  // common pattern (a body thinner than 4 delta has no inside)
   const NOSPD::Stencil *first = nullptr;
   for (int i = 0; i < nlocal && !first; i++) first = st_of[i];
+  double h[3] = {0.0, 0.0, 0.0};
+  bool lattice = first != nullptr;
+  if (first) std::copy_n(first->h, 3, h);
+  else if (!patterns.empty()) {
+    const int k = (int) (std::max_element(users.begin(), users.end()) - users.begin());
+    lattice = domain->dimension == 2 ? NOSPD::pattern_lattice<2>(patterns[k], h)
+                                     : NOSPD::pattern_lattice<3>(patterns[k], h);
+  }
   std::vector<std::array<int, 3>> coords;
   long stride[3] = {0, 0, 0};
-  bool grid = first && build_cell_grid(first->h, coords, stride);
+  bool grid = lattice && build_cell_grid(h, coords, stride);
   bool collisions = false;
   if (grid)
     for (int c : cell_grid) collisions = collisions || c == -2;
@@ -888,8 +914,8 @@ void PairPeriNospdHS::map_stencils(const std::vector<int> &users)
   std::map<const NOSPD::Stencil *, int> run_of;
   for (int i = 0; grid && i < nlocal; i++) {
     const NOSPD::Stencil *st = st_of[i];
-    if (!st || coords[i][0] == INT_MIN || st->h[0] != first->h[0] || st->h[1] != first->h[1] ||
-        st->h[2] != first->h[2])
+    if (!st || coords[i][0] == INT_MIN || st->h[0] != h[0] || st->h[1] != h[1] ||
+        st->h[2] != h[2])
       continue;
     bool ok = true, all_owned = true;
     for (int b = fix_bonds->bond_first[i]; ok && b < fix_bonds->bond_first[i + 1]; b++) {
@@ -900,43 +926,13 @@ void PairPeriNospdHS::map_stencils(const std::vector<int> &users)
     }
     // owned partners of one pattern have their partners here: their cells
     // exist, unless two atoms share one
-    if (ok && (!all_owned || collisions)) {
-      auto there = [&](const int *off) {
-        for (int sgn = -1; sgn <= 1; sgn += 2) {
-          long c = 0;
-          for (int k = 0; k < 3; k++) {
-            const long ck = coords[i][k] + sgn * off[k];
-            const long nk = k == 2 ? (long) cell_grid.size() / stride[2]
-                                   : stride[k + 1] / stride[k];
-            if (ck < 0 || ck >= nk) return false;
-            c += ck * stride[k];
-          }
-          if (cell_grid[c] < 0) return false;
-        }
-        return true;
-      };
-      for (int q = 0; ok && q < st->npairs(); q++) ok = there(&st->pair_off[3 * q]);
-      for (int q = 0; ok && q < st->nslots(); q++) ok = there(&st->slot_off[3 * q]);
-    }
+    if (ok && (!all_owned || collisions)) ok = stencil_cells_present(*st, coords[i], stride);
     if (!ok) continue;
-    auto it = run_of.find(st);
-    if (it == run_of.end()) {
-      it = run_of.emplace(st, (int) stencil_runs.size()).first;
-      StencilRun run;
-      run.st = st;
-      auto lin = [&](const int *off) {
-        return (int) (off[0] * stride[0] + off[1] * stride[1] + off[2] * stride[2]);
-      };
-      for (int q = 0; q < st->npairs(); q++) run.pair_lin.push_back(lin(&st->pair_off[3 * q]));
-      for (int q = 0; q < st->nslots(); q++) run.slot_lin.push_back(lin(&st->slot_off[3 * q]));
-      stencil_runs.push_back(std::move(run));
-    }
-    StencilRun &run = stencil_runs[it->second];
-    run.atoms.push_back(i);
-    run.cells.push_back(cell_of[i]);
-    on_stencil[i] = 1;
+    join_stencil_run(i, st, stride, run_of);
     nlocal_on++;
   }
+  // the points near surfaces, interfaces and broken bonds
+  if (grid) nlocal_on += map_point_stencils(coords, stride, h, family_of, run_of);
   // each run in cell order: consecutive points share most of their
   // neighbourhoods in the cache
   for (StencilRun &run : stencil_runs) {
@@ -951,6 +947,12 @@ void PairPeriNospdHS::map_stencils(const std::vector<int> &users)
     run.atoms.swap(atoms);
     run.cells.swap(cells);
   }
+  // the runs cut into blocks of points, the stencil pass's work items
+  stencil_blocks.clear();
+  for (int r = 0; r < (int) stencil_runs.size(); r++)
+    for (int q0 = 0; q0 < (int) stencil_runs[r].atoms.size(); q0 += STENCIL_BLOCK)
+      stencil_blocks.push_back(
+          {r, q0, std::min((int) stencil_runs[r].atoms.size(), q0 + STENCIL_BLOCK)});
   // the flags go to the ghosts, whose families then leave them out
   comm_mode = 2;
   comm->forward_comm(this);
@@ -966,6 +968,282 @@ void PairPeriNospdHS::map_stencils(const std::vector<int> &users)
   }
   pvector[1] = (double) nlocal_on;
   MPI_Allreduce(&nlocal_on, &nstencil_all, 1, MPI_LMP_BIGINT, MPI_SUM, world);
+}
+
+/* ----------------------------------------------------------------------
+   Whether every cell a stencil reads around a point's cell holds one atom
+------------------------------------------------------------------------- */
+
+bool PairPeriNospdHS::stencil_cells_present(const NOSPD::Stencil &st,
+                                            const std::array<int, 3> &at, const long *stride) const
+{
+  auto there = [&](const int *off) {
+    for (int sgn = st.one_sided ? 1 : -1; sgn <= 1; sgn += 2) {
+      long c = 0;
+      for (int k = 0; k < 3; k++) {
+        const long ck = at[k] + sgn * off[k];
+        const long nk = k == 2 ? (long) cell_grid.size() / stride[2] : stride[k + 1] / stride[k];
+        if (ck < 0 || ck >= nk) return false;
+        c += ck * stride[k];
+      }
+      if (cell_grid[c] < 0) return false;
+    }
+    return true;
+  };
+  for (int q = 0; q < st.npairs(); q++)
+    if (!there(&st.pair_off[3 * q])) return false;
+  for (int q = 0; q < st.nslots(); q++)
+    if (!there(&st.slot_off[3 * q])) return false;
+  return true;
+}
+
+/* ----------------------------------------------------------------------
+   Owned atom i takes stencil st: its run (one per stencil) gains it
+------------------------------------------------------------------------- */
+
+void PairPeriNospdHS::join_stencil_run(int i, const NOSPD::Stencil *st, const long *stride,
+                                       std::map<const NOSPD::Stencil *, int> &run_of)
+{
+  auto it = run_of.find(st);
+  if (it == run_of.end()) {
+    it = run_of.emplace(st, (int) stencil_runs.size()).first;
+    StencilRun run;
+    run.st = st;
+    auto lin = [&](const int *off) {
+      return (int) (off[0] * stride[0] + off[1] * stride[1] + off[2] * stride[2]);
+    };
+    for (int q = 0; q < st->npairs(); q++) run.pair_lin.push_back(lin(&st->pair_off[3 * q]));
+    for (int q = 0; q < st->nslots(); q++) run.slot_lin.push_back(lin(&st->slot_off[3 * q]));
+    stencil_runs.push_back(std::move(run));
+  }
+  StencilRun &run = stencil_runs[it->second];
+  run.atoms.push_back(i);
+  run.cells.push_back(cell_of[i]);
+  on_stencil[i] = 1;
+}
+
+/* ----------------------------------------------------------------------
+   The neighbourhood of owned atom i: its family key and volume, then, slot
+   by slot of its pattern, each partner's family key and volume (bit
+   patterns).  Points with one neighbourhood have one force operator.
+------------------------------------------------------------------------- */
+
+void PairPeriNospdHS::neighbourhood_key(int i, std::vector<int64_t> &key) const
+{
+  auto bits = [](double v) {
+    int64_t b;
+    std::memcpy(&b, &v, sizeof b);
+    return b;
+  };
+  const double *vfrac = atom->vfrac;
+  const int n = state_count[i];
+  const uint16_t *perm = &state_perm[state_first[i]];
+  const int *bj = fix_bonds->bond_j + fix_bonds->bond_first[i];
+  key.resize(2 * n + 2);
+  key[0] = bits(stencil_key[i]);
+  key[1] = bits(vfrac[i]);
+  for (int s = 0; s < n; s++) {
+    const int j = bj[perm[s]];
+    key[2 * s + 2] = bits(stencil_key[j]);
+    key[2 * s + 3] = bits(vfrac[j]);
+  }
+}
+
+/* ----------------------------------------------------------------------
+   One-sided stencils (nospd_stencil.h) for the owned atoms the grid's
+   stencil left out, where at least POINT_STENCIL_USERS of them share a
+   neighbourhood, every family of it is known here (owned, or a ghost
+   whose key an owned family has) and has a linear law, and every cell it
+   reads holds an atom.  Stencils are kept by neighbourhood between
+   mappings; those no atom uses any more are dropped.  Returns the number
+   of atoms that joined.
+------------------------------------------------------------------------- */
+
+int PairPeriNospdHS::map_point_stencils(const std::vector<std::array<int, 3>> &coords,
+                                        const long *stride, const double *h,
+                                        const std::map<double, std::pair<int, int>> &family_of,
+                                        std::map<const NOSPD::Stencil *, int> &run_of)
+{
+  const int nlocal = atom->nlocal;
+  const int *type = atom->type;
+
+  // candidates grouped by neighbourhood
+  std::unordered_map<uint64_t, std::vector<int>> by_hash;
+  std::vector<int64_t> key, other;
+  for (int i = 0; i < nlocal; i++) {
+    if (on_stencil[i] || coords[i][0] == INT_MIN) continue;
+    if (patterns[state_pattern[i]].atom_singular || !linear_law[type[i]].ok) continue;
+    neighbourhood_key(i, key);
+    by_hash[key_hash(key)].push_back(i);
+  }
+  struct Group {
+    std::vector<int64_t> key;
+    std::vector<int> atoms;
+    NOSPD::Stencil *st = nullptr;
+  };
+  std::vector<Group> groups;
+  for (auto &kv : by_hash) {
+    if ((int) kv.second.size() < POINT_STENCIL_USERS) continue;
+    Group g;
+    neighbourhood_key(kv.second[0], g.key);
+    for (int i : kv.second) {
+      neighbourhood_key(i, other);
+      if (other == g.key) g.atoms.push_back(i);
+    }
+    if ((int) g.atoms.size() >= POINT_STENCIL_USERS) groups.push_back(std::move(g));
+  }
+
+  // the stencils kept from earlier mappings, and those to build
+  std::map<std::vector<int64_t>, NOSPD::Stencil> kept;
+  std::vector<int> to_build;
+  for (int q = 0; q < (int) groups.size(); q++) {
+    auto it = point_stencils.find(groups[q].key);
+    if (it != point_stencils.end()) {
+      groups[q].st = &kept.emplace(it->first, std::move(it->second)).first->second;
+    } else to_build.push_back(q);
+  }
+  point_stencils.swap(kept);
+  std::vector<std::pair<const std::vector<int64_t> *, int>> needs;
+  for (int q : to_build) needs.emplace_back(&groups[q].key, groups[q].atoms[0]);
+  build_point_stencils(needs, h, family_of);
+
+  int joined = 0;
+  for (Group &g : groups) {
+    if (!g.st) g.st = &point_stencils[g.key];
+    if (!g.st->ok) continue;
+    for (int i : g.atoms) {
+      if (!stencil_cells_present(*g.st, coords[i], stride)) continue;
+      join_stencil_run(i, g.st, stride, run_of);
+      joined++;
+    }
+  }
+  return joined;
+}
+
+/* ----------------------------------------------------------------------
+   Build the one-sided stencils of neighbourhoods (key, an atom that has
+   it) into point_stencils (not ok where a family is unknown here, has no
+   linear law or no shape tensor, or is off the lattice).  Each family
+   operator (pattern and type) is evaluated once per batch and added into
+   every neighbourhood that reads it.
+------------------------------------------------------------------------- */
+
+void PairPeriNospdHS::build_point_stencils(
+    const std::vector<std::pair<const std::vector<int64_t> *, int>> &needs, const double *h,
+    const std::map<double, std::pair<int, int>> &family_of)
+{
+  using NOSPD::detail::Offset;
+  if (needs.empty()) return;
+  const int nlocal = atom->nlocal, dim = domain->dimension;
+  const int *type = atom->type;
+  const double *vfrac = atom->vfrac;
+
+  struct Operator {
+    int pattern, type;
+    bool ok;
+    std::vector<Offset> e;
+    std::map<Offset, int> slot_at;
+  };
+  struct Ref {
+    int need, slot;    // slot -1: the need's own family
+    Offset at;         // the family's centre relative to the point
+    double ws;         // (V_centre / V_point) w_slot
+  };
+  std::vector<Operator> ops;
+  std::vector<std::vector<Ref>> refs;    // by operator
+  std::map<std::pair<int, int>, int> op_of;
+  int emax = 0;
+  auto op_index = [&](int k, int t) {
+    auto it = op_of.find({k, t});
+    if (it != op_of.end()) return it->second;
+    Operator op{k, t, false, {}, {}};
+    const BondPattern &p = patterns[k];
+    op.ok = !p.atom_singular && linear_law[t].ok &&
+        (dim == 2 ? NOSPD::lattice_offsets<2>(p, h, op.e) : NOSPD::lattice_offsets<3>(p, h, op.e));
+    for (int s = 0; op.ok && s < p.n; s++) {
+      op.slot_at[op.e[s]] = s;
+      for (int c = 0; c < 3; c++) emax = MAX(emax, std::abs(op.e[s][c]));
+    }
+    ops.push_back(std::move(op));
+    refs.emplace_back();
+    op_of.emplace(std::make_pair(k, t), (int) ops.size() - 1);
+    return (int) ops.size() - 1;
+  };
+
+  const int nneed = (int) needs.size();
+  std::vector<char> ok(nneed, 1);
+  std::vector<int> own(nneed);
+  for (int q = 0; q < nneed; q++) {
+    const int i = needs[q].second;
+    const int oi = op_index(state_pattern[i], type[i]);
+    own[q] = oi;
+    if (!ops[oi].ok) {
+      ok[q] = 0;
+      continue;
+    }
+    refs[oi].push_back({q, -1, {0, 0, 0}, 1.0});
+    const int n = state_count[i];
+    const uint16_t *perm = &state_perm[state_first[i]];
+    const int *bj = fix_bonds->bond_j + fix_bonds->bond_first[i];
+    for (int s = 0; ok[q] && s < n; s++) {
+      const int j = bj[perm[s]];
+      int pj = -1;
+      if (j < nlocal) pj = state_pattern[j];
+      else {
+        auto f = family_of.find(stencil_key[j]);
+        if (f != family_of.end() && f->second.second == type[j]) pj = f->second.first;
+      }
+      if (pj < 0) {
+        ok[q] = 0;
+        break;
+      }
+      const int oj = op_index(pj, type[j]);
+      const Offset a = ops[oi].e[s];
+      auto slot = ops[oj].slot_at.find(NOSPD::detail::neg(a));
+      if (!ops[oj].ok || slot == ops[oj].slot_at.end()) {
+        ok[q] = 0;
+        break;
+      }
+      const double ws = vfrac[j] / vfrac[i] * patterns[pj].w[slot->second];
+      refs[oj].push_back({q, slot->second, a, ws});
+    }
+  }
+
+  // batches of neighbourhoods, each assembled on a dense cube of blocks
+  const int R = 2 * emax;
+  const double cube = 72.0 * (2 * R + 1) * (2 * R + 1) * (dim == 3 ? 2 * R + 1 : 1);
+  const int batch = MAX(1, (int) (POINT_STENCIL_BATCH_BYTES / cube));
+  std::vector<double> A;
+  for (int q0 = 0; q0 < nneed; q0 += batch) {
+    const int q1 = MIN(nneed, q0 + batch);
+    std::vector<NOSPD::PointStencilBuilder> builders(q1 - q0, NOSPD::PointStencilBuilder(dim, R));
+    for (size_t o = 0; o < ops.size(); o++) {
+      bool used = false;
+      for (const Ref &r : refs[o]) used = used || (r.need >= q0 && r.need < q1 && ok[r.need]);
+      if (!used) continue;
+      const Operator &op = ops[o];
+      const BondPattern &p = patterns[op.pattern];
+      const bool have = dim == 2
+          ? NOSPD::family_operator<2>(p, hs_form, strain_law, plane_mode, lame[op.type],
+                                      linear_law[op.type], h[0], A)
+          : NOSPD::family_operator<3>(p, hs_form, strain_law, plane_mode, lame[op.type],
+                                      linear_law[op.type], h[0], A);
+      for (const Ref &r : refs[o]) {
+        if (r.need < q0 || r.need >= q1 || !ok[r.need]) continue;
+        NOSPD::PointStencilBuilder &b = builders[r.need - q0];
+        const bool added = have &&
+            (r.slot < 0 ? b.add_own(op.e, p.w, A) : b.add_member(r.at, op.e, A, r.slot, r.ws));
+        if (!added) ok[r.need] = 0;
+      }
+    }
+    for (int q = q0; q < q1; q++) {
+      NOSPD::Stencil &st = point_stencils[*needs[q].first];
+      if (!ok[q]) continue;
+      const Operator &op = ops[own[q]];
+      st = dim == 2 ? builders[q - q0].finish<2>(patterns[op.pattern], op.e, h)
+                    : builders[q - q0].finish<3>(patterns[op.pattern], op.e, h);
+    }
+  }
 }
 
 /* ----------------------------------------------------------------------
@@ -989,24 +1267,26 @@ void PairPeriNospdHS::stencil_pass()
   }
   double **f = atom->f;
   const bool two = domain->dimension == 2;
-  for (const StencilRun &run : stencil_runs) {
-    for_ranges((int) run.atoms.size(), true, [&](int from, int to, int, Tally &) {
-      // blocks of points, so that the kernel's loop over them is its own
-      constexpr int BLOCK = 64;
-      double fb[BLOCK][3], Hb[BLOCK][9], Hbarb[BLOCK][9];
-      for (int q0 = from; q0 < to; q0 += BLOCK) {
-        const int q1 = std::min(to, q0 + BLOCK);
-        const int *cells = run.cells.data(), *pl = run.pair_lin.data(), *sl = run.slot_lin.data();
-        if (two) stencil_kernel<2>(*run.st, u, cells, pl, sl, q0, q1, fb, Hb, Hbarb);
-        else stencil_kernel<3>(*run.st, u, cells, pl, sl, q0, q1, fb, Hb, Hbarb);
-        for (int q = q0; q < q1; q++) {
-          const int i = run.atoms[q];
-          for (int k = 0; k < 3; k++) f[i][k] += fb[q - q0][k];
-          store_stencil_state(i, *run.st, Hb[q - q0], Hbarb[q - q0]);
-        }
+  // one range over the blocks of every run: threads share the many short
+  // runs of one-sided stencils as well as the long one of the grid's
+  for_ranges((int) stencil_blocks.size(), true, [&](int from, int to, int, Tally &) {
+    double fb[STENCIL_BLOCK][3], Hb[STENCIL_BLOCK][9], Hbarb[STENCIL_BLOCK][9];
+    for (int b = from; b < to; b++) {
+      const StencilRun &run = stencil_runs[stencil_blocks[b][0]];
+      const int q0 = stencil_blocks[b][1], q1 = stencil_blocks[b][2];
+      const int *cells = run.cells.data(), *pl = run.pair_lin.data(), *sl = run.slot_lin.data();
+      const bool one = run.st->one_sided;
+      if (two && one) stencil_kernel<2, true>(*run.st, u, cells, pl, sl, q0, q1, fb, Hb, Hbarb);
+      else if (two) stencil_kernel<2, false>(*run.st, u, cells, pl, sl, q0, q1, fb, Hb, Hbarb);
+      else if (one) stencil_kernel<3, true>(*run.st, u, cells, pl, sl, q0, q1, fb, Hb, Hbarb);
+      else stencil_kernel<3, false>(*run.st, u, cells, pl, sl, q0, q1, fb, Hb, Hbarb);
+      for (int q = q0; q < q1; q++) {
+        const int i = run.atoms[q];
+        for (int k = 0; k < 3; k++) f[i][k] += fb[q - q0][k];
+        store_stencil_state(i, *run.st, Hb[q - q0], Hbarb[q - q0]);
       }
-    });
-  }
+    }
+  });
 }
 
 /* ----------------------------------------------------------------------
@@ -1120,6 +1400,7 @@ void PairPeriNospdHS::report_patterns()
   for (auto &p : patterns) loc[4] += p.bytes();
   for (auto &byType : pattern_stencils)
     for (auto &kv : byType) loc[4] += kv.second.bytes();
+  for (auto &kv : point_stencils) loc[4] += kv.second.bytes() + 8.0 * kv.first.size();
   loc[4] += (double) (cell_grid.size() + cell_of.size() + family_order.size()) * sizeof(int) +
       (double) on_stencil.size() + 8.0 * stencil_key.size();
   for (auto &run : stencil_runs)
@@ -1127,7 +1408,13 @@ void PairPeriNospdHS::report_patterns()
         sizeof(int);
   loc[4] += (double) state_perm.size() * sizeof(uint16_t) +
       (double) state_pattern.size() * (3 * sizeof(int) + sizeof(tagint));
+  // the one-sided stencils and their points
+  double one[2] = {0.0, 0.0}, one_all[2];
+  for (auto &kv : point_stencils) one[0] += kv.second.ok ? 1.0 : 0.0;
+  for (auto &run : stencil_runs)
+    if (run.st->one_sided) one[1] += (double) run.atoms.size();
   MPI_Allreduce(loc, all, 5, MPI_DOUBLE, MPI_SUM, world);
+  MPI_Allreduce(one, one_all, 2, MPI_DOUBLE, MPI_SUM, world);
   const double natoms = (double) MAX(atom->natoms, 1);
   const double nbonds = MAX(all[0], 1.0);
   if (comm->me == 0)
@@ -1137,10 +1424,11 @@ void PairPeriNospdHS::report_patterns()
                    "  singular bond families (family F used) = {}, in {} atoms\n"
                    "  patterns = {:.0f} (summed over ranks), pattern and mapping state = "
                    "{:.0f} bytes/point\n"
-                   "  points on the linear law's stencil = {} of {}\n",
+                   "  points on the linear law's stencil = {} of {} ({:.0f} of them on "
+                   "{:.0f} one-sided stencils, summed over ranks)\n",
                    force->pair_style, hs_form == HSForm::I ? "I" : "II", hs_ratio, all[0],
                    all[1] / nbonds, all[2] / nbonds, nsingular_bonds, nfallback_states, all[3],
-                   all[4] / natoms, nstencil_all, atom->natoms);
+                   all[4] / natoms, nstencil_all, atom->natoms, one_all[1], one_all[0]);
   if (fix_bonds->nbonds_broken == 0 && all[0] > 0.0 && nsingular_bonds > 0.5 * all[0])
     error->all(FLERR, "pair_style {}: ratio {} is too small: {} of {:.0f} bond-associated "
                "families are degenerate (fewer than {} non-coplanar members); use a larger ratio",
@@ -1267,6 +1555,7 @@ double PairPeriNospdHS::memory_usage()
                      cell_of.capacity()) * sizeof(int);
   for (auto &byType : pattern_stencils)
     for (auto &kv : byType) bytes += kv.second.bytes();
+  for (auto &kv : point_stencils) bytes += kv.second.bytes() + 8.0 * kv.first.size();
   for (auto &run : stencil_runs)
     bytes += (double) (run.pair_lin.size() + run.slot_lin.size() + run.atoms.size() +
                        run.cells.size()) * sizeof(int);

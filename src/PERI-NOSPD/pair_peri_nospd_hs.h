@@ -17,6 +17,7 @@ PairStyle(peri/nospd/hs,PairPeriNospdHS);
 #include "nospd_bond_history.h"
 #include "nospd_stencil.h"
 
+#include <array>
 #include <cstdint>
 #include <map>
 #include <unordered_map>
@@ -132,8 +133,10 @@ class PairPeriNospdHS : public PairPeriNospd {
 
   // The linear law's stencil (nospd_stencil.h): points whose whole
   // horizon is one grid pattern take their force from it on steps that
-  // need no energy and no virial; the families whose every target is such
-  // a point are not evaluated then, the others scatter only onto the rest.
+  // need no energy and no virial, and points near surfaces from a
+  // one-sided stencil that many of them share; the families whose every
+  // target is such a point are not evaluated then, the others scatter
+  // only onto the rest.
   bool stencil_on;                                     // keyword stencil yes|no
   std::vector<std::map<int, NOSPD::Stencil>> pattern_stencils;    // [pattern][type]
   struct StencilRun {
@@ -142,6 +145,7 @@ class PairPeriNospdHS : public PairPeriNospd {
     std::vector<int> atoms, cells;          // its owned atoms and their cells
   };
   std::vector<StencilRun> stencil_runs;
+  std::vector<std::array<int, 3>> stencil_blocks;    // run, first and last + 1 point
   std::vector<int> cell_grid;               // lattice cell -> owned or ghost atom
   std::vector<int> cell_of;                 // owned or ghost atom -> cell (-1 none)
   std::vector<char> on_stencil;             // owned and ghost atoms
@@ -154,6 +158,19 @@ class PairPeriNospdHS : public PairPeriNospd {
   const NOSPD::Stencil *stencil_for(int pattern, int type);
   bool build_cell_grid(const double *h, std::vector<std::array<int, 3>> &coords,
                        long stride[3]);
+  bool stencil_cells_present(const NOSPD::Stencil &st, const std::array<int, 3> &at,
+                             const long *stride) const;
+  void join_stencil_run(int i, const NOSPD::Stencil *st, const long *stride,
+                        std::map<const NOSPD::Stencil *, int> &run_of);
+  // one-sided stencils, by neighbourhood (neighbourhood_key)
+  std::map<std::vector<int64_t>, NOSPD::Stencil> point_stencils;
+  void neighbourhood_key(int i, std::vector<int64_t> &key) const;
+  int map_point_stencils(const std::vector<std::array<int, 3>> &coords, const long *stride,
+                         const double *h, const std::map<double, std::pair<int, int>> &family_of,
+                         std::map<const NOSPD::Stencil *, int> &run_of);
+  void build_point_stencils(const std::vector<std::pair<const std::vector<int64_t> *, int>> &needs,
+                            const double *h,
+                            const std::map<double, std::pair<int, int>> &family_of);
   void stencil_pass();
   void store_stencil_state(int i, const NOSPD::Stencil &st, const double *H, const double *Hbar);
 
