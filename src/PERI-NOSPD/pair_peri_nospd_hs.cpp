@@ -947,12 +947,19 @@ void PairPeriNospdHS::map_stencils(const std::vector<int> &users)
     run.atoms.swap(atoms);
     run.cells.swap(cells);
   }
-  // the runs cut into blocks of points, the stencil pass's work items
+  // the runs cut into blocks of points, the stencil pass's work items, in
+  // the order of their first cells: threads that split them in contiguous
+  // ranges get slabs of the body, each with its share of the one-sided
+  // stencils (which cost about twice the grid's)
   stencil_blocks.clear();
   for (int r = 0; r < (int) stencil_runs.size(); r++)
     for (int q0 = 0; q0 < (int) stencil_runs[r].atoms.size(); q0 += STENCIL_BLOCK)
       stencil_blocks.push_back(
           {r, q0, std::min((int) stencil_runs[r].atoms.size(), q0 + STENCIL_BLOCK)});
+  std::sort(stencil_blocks.begin(), stencil_blocks.end(),
+            [&](const std::array<int, 3> &a, const std::array<int, 3> &b) {
+              return stencil_runs[a[0]].cells[a[1]] < stencil_runs[b[0]].cells[b[1]];
+            });
   // the flags go to the ghosts, whose families then leave them out
   comm_mode = 2;
   comm->forward_comm(this);

@@ -648,11 +648,13 @@ struct StencilCase {
   double broken;        // fraction of bonds broken (a few bonds)
   double ratio = 1.0;    // 0.4: singular bond families inside (the family's F)
   int halves = 0;        // the upper half x >= n/2: 1 another material, 2 another volume
+  int layers = 0;        // 3D free: a plate of this many layers (no inside at 2 delta)
   std::string name() const
   {
     return std::to_string(dim) + "D_" + (periodic ? "periodic" : "free") + "_form" + form +
         (broken > 0.0 ? "_broken" : "") + (ratio != 1.0 ? "_ratio04" : "") +
-        (halves == 1 ? "_two_materials" : halves == 2 ? "_two_volumes" : "");
+        (halves == 1 ? "_two_materials" : halves == 2 ? "_two_volumes" : "") +
+        (layers ? "_plate" : "");
   }
 };
 
@@ -690,6 +692,11 @@ TEST_P(HSStencil, MatchesFamilies)
       cmd(lmp, "set region upper volume " + num(1.1 * vol));
     }
   }
+  if (c.layers) {
+    cmd(lmp, "region above block INF INF INF INF " + num((c.layers - 0.5) * b.dx) +
+                 " INF units box");
+    cmd(lmp, "delete_atoms region above");
+  }
   cmd(lmp, c.dim == 3 ? "displace_atoms all random 2e-6 2e-6 2e-6 8811 units box"
                       : "displace_atoms all random 2e-6 2e-6 0 8811 units box");
   cmd(lmp, "run 0");
@@ -706,8 +713,9 @@ TEST_P(HSStencil, MatchesFamilies)
   // within 2 delta (6 spacings) of a face along every axis: those have a
   // neighbourhood of their own, the others share theirs with at least 4
   // (the block's inside positions along the other axes)
-  if (c.broken > 0.0) EXPECT_LT(on, natoms);
+  if (c.broken > 0.0 || (c.halves && !c.periodic)) EXPECT_LT(on, natoms);
   else if (c.periodic) EXPECT_EQ(on, natoms);
+  else if (c.layers) EXPECT_EQ(on, natoms - 12 * 12 * c.layers);
   else EXPECT_EQ(on, natoms - (c.dim == 3 ? 12 * 12 * 12 : 12 * 12));
   if (c.ratio != 1.0) EXPECT_GT(p->singular_bond_families(), 0);
 
@@ -759,7 +767,10 @@ INSTANTIATE_TEST_SUITE_P(BondAssociated, HSStencil,
                                            StencilCase{2, false, "II", 0.0},
                                            StencilCase{2, false, "I", 0.0},
                                            StencilCase{2, true, "II", 0.0},
-                                           StencilCase{2, true, "II", 8e-4}),
+                                           StencilCase{2, true, "II", 8e-4},
+                                           StencilCase{3, false, "II", 0.0, 0.4},
+                                           StencilCase{3, false, "II", 0.0, 1.0, 0, 6},
+                                           StencilCase{2, false, "II", 0.0, 1.0, 2}),
                          [](const ::testing::TestParamInfo<StencilCase> &p) {
                            return p.param.name();
                          });
