@@ -13,6 +13,7 @@
 #include "fix_nospd_bonds.h"
 #include "force.h"
 #include "memory.h"
+#include "neighbor.h"
 #include "update.h"
 
 #include "nospd_simd.h"
@@ -237,6 +238,38 @@ void PairPeriNospdHS::init_style()
   linear_law.assign(atom->ntypes + 1, NOSPD::LinearLaw());
   for (int i = 1; i <= atom->ntypes; i++)
     linear_law[i] = NOSPD::probe_linear_law(strain_law, plane_mode, lame[i], domain->dimension);
+  ghosts_for_stencil();
+}
+
+/* ----------------------------------------------------------------------
+   The stencil reads the displacements within 2 delta of a point.  Ghosts
+   reach delta plus the skin by default: the points within 2 delta of a
+   subdomain's edge, or a periodic box's, would then take their families,
+   about eight times the cost (on 2 ranks, half the block).  Where the
+   stencil can apply, raise the communication cutoff to 2 delta plus the
+   skin, as LAMMPS's styles that need far ghosts do, and say so.
+------------------------------------------------------------------------- */
+
+void PairPeriNospdHS::ghosts_for_stencil()
+{
+  bool linear = false;
+  double delta_max = 0.0;
+  for (int i = 1; i <= atom->ntypes; i++) {
+    linear = linear || linear_law[i].ok;
+    for (int j = i; j <= atom->ntypes; j++) delta_max = MAX(delta_max, cut[i][j]);
+  }
+  const bool edges =
+      comm->nprocs > 1 || domain->xperiodic || domain->yperiodic || domain->zperiodic;
+  if (!stencil_on || !linear || !edges || user_law() || fix_bonds->nhistory > 0) return;
+  const double need = 2.0 * delta_max + neighbor->skin;
+  if (comm->get_comm_cutoff() >= need) return;
+  comm->cutghostuser = need;
+  if (comm->me == 0)
+    error->warning(FLERR,
+                   "pair_style {}: increasing the communication cutoff to {:.8} (2 delta plus "
+                   "the skin), so that points near subdomain edges take the linear law's "
+                   "stencil; 'stencil no' keeps the default cutoff",
+                   force->pair_style, need);
 }
 
 /* ---------------------------------------------------------------------- */

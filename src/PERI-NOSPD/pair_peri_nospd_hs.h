@@ -171,6 +171,7 @@ class PairPeriNospdHS : public PairPeriNospd {
   void build_point_stencils(const std::vector<std::pair<const std::vector<int64_t> *, int>> &needs,
                             const double *h,
                             const std::map<double, std::pair<int, int>> &family_of);
+  void ghosts_for_stencil();
   void stencil_pass();
   void store_stencil_state(int i, const NOSPD::Stencil &st, const double *H, const double *Hbar);
 
