@@ -9,7 +9,9 @@
 
 #include "nospd_test_util.h"
 
+#include "comm.h"
 #include "fix_nospd_bonds.h"
+#include "neighbor.h"
 #include "nospd_bond_associated.h"
 #include "nospd_constitutive.h"
 #include "pair_peri_nospd_hs.h"
@@ -789,6 +791,33 @@ TEST_F(HSDeck, StencilOnlyForTheLinearLaw)
     make_block(lmp, b);
     cmd(lmp, "run 0");
     EXPECT_EQ(static_cast<PairPeriNospdHS *>(lmp->force->pair)->stencil_points(), 0) << settings;
+  }
+}
+
+/* The stencil reads 2 delta around a point: where it applies, the style
+   raises a shorter ghost cutoff to 2 delta plus the skin (then every
+   point of a periodic box takes it); a law without the stencil, or
+   stencil no, leaves the user's cutoff alone */
+TEST_F(HSDeck, StencilRaisesTheGhostCutoff)
+{
+  for (const char *settings : {"", "stencil no", "strain finite"}) {
+    delete lmp;
+    lmp = open_lammps();
+    Block b;
+    b.n = 14;
+    b.periodic = true;
+    b.style = "peri/nospd/hs";
+    b.settings = settings;
+    make_block(lmp, b);
+    const double user = 1.2 * b.delta();
+    cmd(lmp, "comm_modify cutoff " + num(user));
+    cmd(lmp, "run 0");
+    const double need = 2.0 * b.delta() + lmp->neighbor->skin;
+    const bool stencil = std::string(settings).empty();
+    EXPECT_DOUBLE_EQ(lmp->comm->get_comm_cutoff(), stencil ? need : user) << settings;
+    EXPECT_EQ(static_cast<PairPeriNospdHS *>(lmp->force->pair)->stencil_points(),
+              stencil ? lmp->atom->natoms : 0)
+        << settings;
   }
 }
 
