@@ -84,6 +84,7 @@ struct BondPattern {
   // slot of each lexicographic position
   std::vector<int64_t> key;
   std::vector<int> lex_to_slot;
+  uint64_t shape_hash = 0;    // of key and weights, for the stencil's keys (0: not yet)
 
   // bond sums by program, built for patterns that many families share
   SumProgram program;

@@ -126,7 +126,7 @@ PairPeriNospdHS::PairPeriNospdHS(LAMMPS *lmp) :
     PairPeriNospd(lmp), hs_form(HSForm::II), hs_ratio(1.0), mapped_version(-1),
     nsingular_bonds(0), nfallback_states(0), reported(false), nmax_ghost(0), fghost(nullptr),
     vghost(nullptr), reverse_virial(0), nbig(0), stencil_on(true), nstencil_all(0),
-    comm_mode(0), stab_on(false)
+    comm_mode(0), stencils_stale(false), first_point_mapping(true), stab_on(false)
 {
   if (lmp->citeme) lmp->citeme->add(cite_nospd_hs);
   stab = NOSPD::Stab::NONE;
@@ -233,6 +233,7 @@ void PairPeriNospdHS::init_style()
   // the law may have changed: stencils anew
   pattern_stencils.clear();
   point_stencils.clear();
+  first_point_mapping = true;
   mapped_version = -1;
   reported = false;
   linear_law.assign(atom->ntypes + 1, NOSPD::LinearLaw());
@@ -305,6 +306,7 @@ void PairPeriNospdHS::compute(int eflag, int vflag)
   const bool virial = vflag_either;
   // the stencil knows no energy and no virial: steps that want them take
   // the families of every point
+  if (stencils_stale && !eflag && !virial) map_stencils();
   const bool on_stencil_step = nstencil_all > 0 && !eflag && !virial;
   if (domain->dimension == 2)
     virial ? force_pass<2, 1>(eflag, false) : force_pass<2, 0>(eflag, on_stencil_step);
@@ -789,9 +791,14 @@ void PairPeriNospdHS::map_families()
   MPI_Allreduce(&nsing, &nsingular_bonds, 1, MPI_LMP_BIGINT, MPI_SUM, world);
   MPI_Allreduce(&nfall, &nfallback_states, 1, MPI_LMP_BIGINT, MPI_SUM, world);
 
-  std::vector<int> kept_users(patterns.size(), 0);
-  for (int i = 0; i < nlocal; i++) kept_users[state_pattern[i]]++;
-  map_stencils(kept_users);
+  // the stencils: now on a run's first mapping (its log line counts
+  // them), else before the next step that can use them (damage remaps
+  // often, and some decks want energy or virial on every step)
+  if (!reported) map_stencils();
+  else {
+    stencils_stale = true;
+    nstencil_all = 0;
+  }
 
   if (!reported) {
     report_patterns();
@@ -875,9 +882,12 @@ bool PairPeriNospdHS::build_cell_grid(const double *h, std::vector<std::array<in
    families that only feed such atoms are not evaluated on stencil steps.
 ------------------------------------------------------------------------- */
 
-void PairPeriNospdHS::map_stencils(const std::vector<int> &users)
+void PairPeriNospdHS::map_stencils()
 {
   const int nlocal = atom->nlocal, nall = nlocal + atom->nghost;
+  stencils_stale = false;
+  std::vector<int> users(patterns.size(), 0);
+  for (int i = 0; i < nlocal; i++) users[state_pattern[i]]++;
   const int *type = atom->type;
   const double *vfrac = atom->vfrac;
   stencil_runs.clear();
@@ -911,11 +921,14 @@ void PairPeriNospdHS::map_stencils(const std::vector<int> &users)
     const int k = state_pattern[i];
     auto it = key_of.find({k, type[i]});
     if (it == key_of.end()) {
-      const BondPattern &p = patterns[k];
-      std::vector<int64_t> key = p.key;
-      for (double w : p.w) key.push_back(std::llround(std::log(w) * 1.0e9));
-      key.push_back(type[i]);
-      it = key_of.emplace(std::make_pair(k, type[i]), (double) ((key_hash(key) >> 12) | 1)).first;
+      BondPattern &p = patterns[k];
+      if (!p.shape_hash) {
+        std::vector<int64_t> key = p.key;
+        for (double w : p.w) key.push_back(std::llround(std::log(w) * 1.0e9));
+        p.shape_hash = key_hash(key) | 1;
+      }
+      const uint64_t h = key_hash({(int64_t) p.shape_hash, (int64_t) type[i]});
+      it = key_of.emplace(std::make_pair(k, type[i]), (double) ((h >> 12) | 1)).first;
       auto ins = family_of.emplace(it->second, std::make_pair(k, type[i]));
       if (!ins.second) ins.first->second = {-1, -1};
     }
@@ -1107,12 +1120,21 @@ int PairPeriNospdHS::map_point_stencils(const std::vector<std::array<int, 3>> &c
   const int nlocal = atom->nlocal;
   const int *type = atom->type;
 
-  // candidates grouped by neighbourhood
-  std::unordered_map<uint64_t, std::vector<int>> by_hash;
-  std::vector<int64_t> key, other;
+  // candidates: enough points of their own family's pattern and material
+  // (a cheap first cut where damage has made most families unique), then
+  // grouped by neighbourhood
+  std::vector<int> candidates;
+  std::unordered_map<double, int> own_count;
   for (int i = 0; i < nlocal; i++) {
     if (on_stencil[i] || coords[i][0] == INT_MIN) continue;
     if (patterns[state_pattern[i]].atom_singular || !linear_law[type[i]].ok) continue;
+    candidates.push_back(i);
+    own_count[stencil_key[i]]++;
+  }
+  std::unordered_map<uint64_t, std::vector<int>> by_hash;
+  std::vector<int64_t> key, other;
+  for (int i : candidates) {
+    if (own_count[stencil_key[i]] < POINT_STENCIL_USERS) continue;
     neighbourhood_key(i, key);
     by_hash[key_hash(key)].push_back(i);
   }
@@ -1135,21 +1157,32 @@ int PairPeriNospdHS::map_point_stencils(const std::vector<std::array<int, 3>> &c
 
   // the stencils kept from earlier mappings, and those to build
   std::map<std::vector<int64_t>, NOSPD::Stencil> kept;
+  // After the first mapping of a run, new neighbourhoods come from bonds
+  // breaking (or atoms migrating): a crack front's are many, short-lived
+  // and shared by few points, and evaluating their families' operators
+  // would cost more steps than they save; only those of many points are
+  // built then.
   std::vector<int> to_build;
   for (int q = 0; q < (int) groups.size(); q++) {
     auto it = point_stencils.find(groups[q].key);
     if (it != point_stencils.end()) {
       groups[q].st = &kept.emplace(it->first, std::move(it->second)).first->second;
-    } else to_build.push_back(q);
+    } else if (first_point_mapping || (int) groups[q].atoms.size() >= PROGRAM_USERS)
+      to_build.push_back(q);
   }
   point_stencils.swap(kept);
+  first_point_mapping = false;
   std::vector<std::pair<const std::vector<int64_t> *, int>> needs;
   for (int q : to_build) needs.emplace_back(&groups[q].key, groups[q].atoms[0]);
   build_point_stencils(needs, h, family_of);
 
   int joined = 0;
   for (Group &g : groups) {
-    if (!g.st) g.st = &point_stencils[g.key];
+    if (!g.st) {
+      auto it = point_stencils.find(g.key);
+      if (it == point_stencils.end()) continue;
+      g.st = &it->second;
+    }
     if (!g.st->ok) continue;
     for (int i : g.atoms) {
       if (!stencil_cells_present(*g.st, coords[i], stride)) continue;

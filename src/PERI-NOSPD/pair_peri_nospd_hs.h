@@ -154,7 +154,8 @@ class PairPeriNospdHS : public PairPeriNospd {
   std::vector<double> ustencil;             // displacements, 4 per cell
   bigint nstencil_all;
   int comm_mode;                            // forward comm: 0 classical B, 1 key, 2 flag
-  void map_stencils(const std::vector<int> &users);
+  bool stencils_stale;                      // the families were remapped since
+  void map_stencils();
   const NOSPD::Stencil *stencil_for(int pattern, int type);
   bool build_cell_grid(const double *h, std::vector<std::array<int, 3>> &coords,
                        long stride[3]);
@@ -164,6 +165,7 @@ class PairPeriNospdHS : public PairPeriNospd {
                         std::map<const NOSPD::Stencil *, int> &run_of);
   // one-sided stencils, by neighbourhood (neighbourhood_key)
   std::map<std::vector<int64_t>, NOSPD::Stencil> point_stencils;
+  bool first_point_mapping;    // the run's first: every shared neighbourhood built
   void neighbourhood_key(int i, std::vector<int64_t> &key) const;
   int map_point_stencils(const std::vector<std::array<int, 3>> &coords, const long *stride,
                          const double *h, const std::map<double, std::pair<int, int>> &family_of,
