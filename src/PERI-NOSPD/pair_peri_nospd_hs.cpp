@@ -1043,6 +1043,9 @@ bool PairPeriNospdHS::stencil_cells_present(const NOSPD::Stencil &st,
     }
     return true;
   };
+  // the point's own cell too (its displacement is read from there)
+  const int zero[3] = {0, 0, 0};
+  if (!there(zero)) return false;
   for (int q = 0; q < st.npairs(); q++)
     if (!there(&st.pair_off[3 * q])) return false;
   for (int q = 0; q < st.nslots(); q++)
