@@ -904,15 +904,12 @@ void PairPeriNospdHS::map_stencils()
     return;
   }
 
-  // each owned atom's stencil and key; the keys go to the ghosts.  A key
-  // hashes the pattern's shape and weights and the type into 52 bits, so
-  // that a double holds it exactly (a collision is harmless: the partners'
-  // patterns are compared below where they are owned, and volumes and
-  // types everywhere)
-  // every owned atom's family key; the keys go to the ghosts.  A key
-  // hashes the pattern's shape and weights and the type into 52 bits, so
-  // that a double holds it exactly.  family_of: key -> (pattern, type) of
-  // the families owned here ((-1, -1) for two that share a key)
+  // every owned atom's family key, and its inside stencil; the keys go to
+  // the ghosts.  A key hashes the pattern's shape and weights and the type
+  // into 52 bits, so that a double holds it exactly.  family_of: key ->
+  // (pattern, type) of the families owned here ((-1, -1) for two that
+  // share a key).  A collision of keys between ranks would go unseen; at
+  // 52 bits over a few thousand patterns its chance is below 1e-8.
   std::vector<const NOSPD::Stencil *> st_of(nlocal, nullptr);
   stencil_key.assign(nall, 0.0);
   std::map<std::pair<int, int>, double> key_of;

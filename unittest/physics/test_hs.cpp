@@ -787,30 +787,13 @@ INSTANTIATE_TEST_SUITE_P(BondAssociated, HSStencil,
                            return p.param.name();
                          });
 
-/* No stencil where the law is not linear, or when switched off */
-TEST_F(HSDeck, StencilOnlyForTheLinearLaw)
+/* The stencil only for the linear law, and not when switched off.  It
+   reads 2 delta around a point: where it applies, the style raises a
+   shorter ghost cutoff to 2 delta plus the skin (then every point of a
+   periodic box takes it); otherwise the user's cutoff stays. */
+TEST_F(HSDeck, StencilOnlyForTheLinearLawWithItsGhosts)
 {
-  for (const char *settings : {"strain finite", "strain neohookean", "stencil no"}) {
-    delete lmp;
-    lmp = open_lammps();
-    Block b;
-    b.n = 14;
-    b.periodic = true;
-    b.style = "peri/nospd/hs";
-    b.settings = settings;
-    make_block(lmp, b);
-    cmd(lmp, "run 0");
-    EXPECT_EQ(static_cast<PairPeriNospdHS *>(lmp->force->pair)->stencil_points(), 0) << settings;
-  }
-}
-
-/* The stencil reads 2 delta around a point: where it applies, the style
-   raises a shorter ghost cutoff to 2 delta plus the skin (then every
-   point of a periodic box takes it); a law without the stencil, or
-   stencil no, leaves the user's cutoff alone */
-TEST_F(HSDeck, StencilRaisesTheGhostCutoff)
-{
-  for (const char *settings : {"", "stencil no", "strain finite"}) {
+  for (const char *settings : {"", "stencil no", "strain finite", "strain neohookean"}) {
     delete lmp;
     lmp = open_lammps();
     Block b;
