@@ -37,7 +37,7 @@ using namespace FixConst;
 
 FixNospdBonds::FixNospdBonds(LAMMPS *lmp, int narg, char **arg) :
     FixPeriNeigh(lmp, narg, arg), nbond_atoms(0), bond_version(0), bond_first(nullptr), bond_j(nullptr),
-    bond_slot(nullptr), bond_w(nullptr), x0s(nullptr), kinv(nullptr), xi_moment(nullptr), u_moment(nullptr), family_size(nullptr), singular(nullptr),
+    bond_slot(nullptr), bond_w(nullptr), bond_pair(nullptr), bond_ghost(nullptr), x0s(nullptr), kinv(nullptr), xi_moment(nullptr), u_moment(nullptr), family_size(nullptr), singular(nullptr),
     defgrad(nullptr), pk1(nullptr), energy_density(nullptr), nsingular(0), nbonds_total(0),
     nbonds_broken(0), nbonds_vanished(0), nmax_bonds(0), nmax_first(0), nmax_x0s(0), stale(nullptr),
     all_stale(true), trial_ready(0), x0s_store(nullptr), ref_box_set(0), own_tag(nullptr)
@@ -74,6 +74,8 @@ FixNospdBonds::~FixNospdBonds()
   memory->destroy(bond_j);
   memory->destroy(bond_slot);
   memory->destroy(bond_w);
+  memory->destroy(bond_pair);
+  memory->destroy(bond_ghost);
   memory->destroy(x0s_store);
   memory->destroy(kinv);
   memory->destroy(xi_moment);
@@ -128,6 +130,8 @@ void FixNospdBonds::setup_post_neighbor()
   }
   // also after a restart, where build_families() does not run
   maxexchange = maxpartner + 22 + nhistory;
+  pair_order = pair_votes[1] > 0 && pair_votes[0] == 0;
+  pair_votes[0] = pair_votes[1] = 0;
   build_bond_arrays();
   all_stale = true;    // after a restart or a change of settings
   update_shape_tensors();
@@ -416,6 +420,65 @@ void FixNospdBonds::build_bond_arrays()
   int nmissing = missing.size(), anymissing = 0;
   MPI_Allreduce(&nmissing, &anymissing, 1, MPI_INT, MPI_SUM, world);
   if (anymissing) resolve_missing(missing);
+  if (pair_order) order_for_pairs();
+}
+
+/* ----------------------------------------------------------------------
+   pair order: each point's bonds to owned points j < i first, then to
+   owned j > i, then to ghosts, each group in the partner order.  The pass
+   that visits pairs once takes bond i-j (j > i) for both ends and skips
+   it at j, so it needs every such bond in both lists: checked here by
+   summing a hash of (i, j) over the first group and over the second (the
+   same sums, mod 2^64, exactly when the owned pairs are symmetric; the
+   damage fix breaks bonds at both ends, an asymmetric list would be a
+   bug).  Without symmetry the pass falls back to visiting bonds per end.
+------------------------------------------------------------------------- */
+
+static inline uint64_t pair_hash(uint64_t lo, uint64_t hi)
+{
+  uint64_t z = (lo << 32 | hi) + 0x9e3779b97f4a7c15ULL;    // splitmix64
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+  return z ^ (z >> 31);
+}
+
+void FixNospdBonds::order_for_pairs()
+{
+  const int nlocal = atom->nlocal;
+  if (nlocal > nmax_pair) {
+    nmax_pair = atom->nmax;
+    memory->destroy(bond_pair);
+    memory->destroy(bond_ghost);
+    memory->create(bond_pair, nmax_pair, "nospd/bonds:bond_pair");
+    memory->create(bond_ghost, nmax_pair, "nospd/bonds:bond_ghost");
+  }
+  uint64_t below = 0, above = 0;
+  std::vector<int> js, slots;
+  std::vector<double> ws;
+  for (int i = 0; i < nlocal; i++) {
+    const int from = bond_first[i], to = bond_first[i + 1];
+    js.assign(bond_j + from, bond_j + to);
+    slots.assign(bond_slot + from, bond_slot + to);
+    ws.assign(bond_w + from, bond_w + to);
+    int b = from;
+    // group 0: owned j < i; 1: owned j > i; 2: ghosts (and a bond to itself)
+    for (int group = 0; group < 3; group++) {
+      if (group == 1) bond_pair[i] = b;
+      if (group == 2) bond_ghost[i] = b;
+      for (int k = 0; k < to - from; k++) {
+        const int j = js[k];
+        const int g = (j >= nlocal || j == i) ? 2 : (j < i ? 0 : 1);
+        if (g != group) continue;
+        bond_j[b] = j;
+        bond_slot[b] = slots[k];
+        bond_w[b] = ws[k];
+        b++;
+        if (g == 0) below += pair_hash(j, i);
+        if (g == 1) above += pair_hash(i, j);
+      }
+    }
+  }
+  pairs_symmetric = (below == above);
 }
 
 /* ----------------------------------------------------------------------
@@ -907,6 +970,7 @@ void FixNospdBonds::compact_bond_arrays()
   }
   bond_first[nlocal] = b;
   bond_version++;
+  if (pair_order) order_for_pairs();
 }
 
 /* ---------------------------------------------------------------------- */
@@ -1061,6 +1125,7 @@ double FixNospdBonds::memory_usage()
   bytes += nmax * (3 * 9 + 2 * 3 + 1) * sizeof(double) + 3 * nmax * sizeof(int);
   bytes += (double) nmax_first * sizeof(int);
   bytes += (double) nmax_bonds * (2 * sizeof(int) + sizeof(double));
+  bytes += (double) nmax_pair * 2 * sizeof(int);
   bytes += (double) nmax_x0s * 3 * sizeof(double);
   bytes += nmax * 2.0 * nhistory * sizeof(double);
   return bytes;

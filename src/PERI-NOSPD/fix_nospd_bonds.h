@@ -100,6 +100,16 @@ class FixNospdBonds : public FixPeriNeigh {
   // the positions' forward communication.
   NOSPD::Positions padded_positions();
 
+  // Pair order (the classical style's hourglass pass visits each pair of
+  // owned points once, nospd_bond_sums.h): every pair style that uses this
+  // fix votes at init whether it can use it; the order is taken at the next
+  // setup when one votes for it and none against (the bond-associated
+  // style's patterns follow the partner order and vote against).
+  void vote_pair_order(bool usable) { pair_votes[usable ? 1 : 0]++; }
+  // the bond lists are in pair order and the owned pairs are known to be
+  // symmetric (each bond i-j owned on both ends is in both lists)
+  bool pairs_ordered() const { return pair_order && pairs_symmetric; }
+
   // Breaking bonds (damage fix): zero the partner slot, mark K^-1 stale.
   // Call bonds_changed() once after a batch of breaks on all ranks.
   void break_bond(int i, int slot);
@@ -135,6 +145,11 @@ class FixNospdBonds : public FixPeriNeigh {
   int *bond_j;            // local index of the partner (closest image)
   int *bond_slot;         // partner slot in FixPeriNeigh::partner[i]
   double *bond_w;         // omega(|xi|) * V_j
+  // in pair order, point i's bonds are [bond_first[i], bond_pair[i]) to
+  // owned points j < i, [bond_pair[i], bond_ghost[i]) to owned points j > i,
+  // then [bond_ghost[i], bond_first[i+1]) to ghosts
+  int *bond_pair;         // [nlocal], only in pair order
+  int *bond_ghost;
   double **x0s;           // x0 in the periodic image of x, owned + ghost
   double **kinv;          // K^-1, 9 per atom, row-major; zero if singular
   double **xi_moment;     // sum_j w xi (reference; zero inside a regular grid)
@@ -185,6 +200,11 @@ class FixNospdBonds : public FixPeriNeigh {
   tagint *own_tag;    // the atom's ID when its partners' IDs were last written
   bool count_bonds_pending = false;
   void compact_bond_arrays();
+  int pair_votes[2] = {0, 0};    // against, for, since the last setup
+  bool pair_order = false;       // bond lists in pair order
+  bool pairs_symmetric = false;
+  int nmax_pair = 0;
+  void order_for_pairs();
   void update_shape_tensors();
   void count_bonds();
   void report_families();

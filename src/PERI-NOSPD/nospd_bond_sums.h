@@ -11,7 +11,8 @@
    components.  With NOSPD_KERNEL_CLONES (nospd_simd.h) the callers are
    built for AVX2 and AVX-512 as well, where a 4-lane vector is one
    register; elsewhere the compiler splits it.  A point's sums are the
-   same bits run after run and on any rank or thread count on one machine.
+   same bits run after run and on any rank or thread count on one machine
+   (the hourglass pass over pairs: run after run on the same partition).
 
    Layout the loads rely on (the fourth lane of a load is unused unless
    said otherwise, but must be readable memory):
@@ -254,6 +255,147 @@ inline void hourglass_force_sums(const Positions &p, const BondList &bl, const F
   }
   f[0] = acc[0], f[1] = acc[1], f[2] = acc[2];
   if (VIRIAL) detail::store_virial(vc, v);
+}
+
+/* ----------------------------------------------------------------------
+   pass 2 with the hourglass term over each pair of owned points once, for
+   lists in the bonds fix's pair order (bonds to owned j < i, to owned
+   j > i, to ghosts).  The bond force density g is odd in the bond: seen
+   from j, xi, Y and U change sign, so do z_i and z_j, and h keeps its
+   value; so bond i-j with j > i adds w_ij g to f_i and -w_ji g to f_j,
+   w_ji = omega V_i = w_ij V_i / V_j, and is skipped at j.  Bonds to ghosts
+   are taken from this end only (their owner takes the other).  Per bond
+   the arithmetic of hourglass_force_sums with VIRIAL (g holds both B
+   terms), arranged as g = (B_i + B_j) xi + h Y and
+   c_i z_i + c_j z_j = (c_i + c_j) U - (c_i H_i + c_j H_j) xi: the same
+   up to rounding, for half the bonds' loads, products and roots.
+   f: 3 per atom; inv_vol: 1 / V of owned atoms (0 where V is); with VIRIAL, v (6 per
+   atom, zeroed by the caller) collects each end's half of the bond virial
+   as hourglass_force_sums does.
+------------------------------------------------------------------------- */
+
+struct PairOrder {
+  const int *first, *pair, *ghost;    // the bonds fix's offsets
+};
+
+namespace detail {
+  // what every bond of point i shares: its positions, the columns of B_i
+  // and of c_i H_i, c_i
+  struct PairPoint {
+    simd::v4 x0, x, b[3], t[3];
+    double s;
+  };
+
+  // bond i-j up to the hourglass scalar: g = (B_i + B_j) xi, Y, and the
+  // products for z . Y, Y . Y, xi . xi (z = c_i z_i + c_j z_j)
+  inline __attribute__((always_inline)) HourglassBond
+  hourglass_pair_bond(const Positions &p, const ForceTerms &ft, int j, const PairPoint &pt)
+  {
+    using namespace simd;
+    const v4 e = load4(p.x0 + 3 * j) - pt.x0;
+    const v4 y = load4(p.x + 3 * j) - pt.x;
+    const double *Bj = ft.B + BREC * j;
+    const double *Tj = ft.T + 9 * j;
+    const v4 col2 = load4(Bj + 6);    // B_j's third column and c_j
+    const double sj = col2[3];
+    const v4 g = (pt.b[0] + load4(Bj)) * e[0] + (pt.b[1] + load4(Bj + 3)) * e[1] +
+        (pt.b[2] + col2) * e[2];
+    const v4 hx = (pt.t[0] + sj * load4(Tj)) * e[0] + (pt.t[1] + sj * load4(Tj + 3)) * e[1] +
+        (pt.t[2] + sj * load4(Tj + 6)) * e[2];
+    const v4 z = (pt.s + sj) * (y - e) - hx;
+    return {g, y, z * y, y * y, e * e};
+  }
+
+  // the bonds [from, to) of point i; with BOTH, also the partner's force
+  // and, with VIRIAL, its virial (v: 6 per atom)
+  template <bool BOTH, int VIRIAL>
+  inline __attribute__((always_inline)) void
+  hourglass_pair_run(const Positions &p, const int *bj, const double *bw, const ForceTerms &ft,
+                     const PairPoint &pt, double vol_i, const double *inv_vol, int from, int to,
+                     simd::v4 &acc, simd::v4 *vc, double *f, double *v)
+  {
+    using namespace simd;
+    auto add = [&](int j, double w, v4 P, v4 y) {
+      // forces, not densities: w_ij V_i g on i, its opposite on j
+      const double a = w * vol_i;
+      acc += a * P;
+      if (VIRIAL) {
+        const v4 h = (-0.5 * w) * y;
+        vc[0] += h * P[0];
+        vc[1] += h * P[1];
+        vc[2] += h * P[2];
+      }
+      if (BOTH) {
+        double *fj = f + 3 * j;
+        fj[0] -= a * P[0];
+        fj[1] -= a * P[1];
+        fj[2] -= a * P[2];
+        if (VIRIAL) {
+          // 1/2 (x_j - x_i) (x) (-w_ji g) = -w_ji/2 Y (x) g
+          const v4 c = (-0.5 * a * inv_vol[j]) * y;
+          double *vj = v + 6 * j;
+          vj[0] += c[0] * P[0], vj[1] += c[1] * P[1], vj[2] += c[2] * P[2];
+          vj[3] += c[0] * P[1], vj[4] += c[0] * P[2], vj[5] += c[1] * P[2];
+        }
+      }
+    };
+    int b = from;
+    for (; b + 4 <= to; b += 4) {
+      HourglassBond t[4];
+#pragma GCC unroll 4
+      for (int k = 0; k < 4; k++) t[k] = hourglass_pair_bond(p, ft, bj[b + k], pt);
+      const v4 zy = sum3x4(t[0].zy, t[1].zy, t[2].zy, t[3].zy);
+      const v4 yy = sum3x4(t[0].yy, t[1].yy, t[2].yy, t[3].yy);
+      const v4 ee = sum3x4(t[0].ee, t[1].ee, t[2].ee, t[3].ee);
+      const v4 h = hourglass_scalars(zy, yy, ee);
+#pragma GCC unroll 4
+      for (int k = 0; k < 4; k++) add(bj[b + k], bw[b + k], t[k].g + h[k] * t[k].y, t[k].y);
+    }
+    for (; b < to; b++) {
+      const HourglassBond t = hourglass_pair_bond(p, ft, bj[b], pt);
+      const double yy = sum3(t.yy);
+      // a collapsed bond (Y = 0) has no direction and takes no term
+      const double h = yy > 0.0 ? sum3(t.zy) / (yy * std::sqrt(sum3(t.ee))) : 0.0;
+      add(bj[b], bw[b], t.g + h * t.y, t.y);
+    }
+  }
+}    // namespace detail
+
+template <int VIRIAL>
+inline void hourglass_pair_sums(const Positions &p, const PairOrder &po, const int *bj,
+                                const double *bw, const ForceTerms &ft, const double *vol,
+                                const double *inv_vol, int from, int to, double *f, double *v)
+{
+  using namespace simd;
+  // f holds forces (density times volume) while the pass adds to it: each
+  // row is final once its point has been visited (its partners j > i add
+  // to it no more) and goes back to a density then
+  for (int i = from; i < to; i++)
+    for (int d = 0; d < 3; d++) f[3 * i + d] *= (vol[i] > 0.0 ? vol[i] : 1.0);
+  for (int i = from; i < to; i++) {
+    const double *Bi = ft.B + BREC * i;
+    const double *Ti = ft.T + 9 * i;
+    detail::PairPoint pt;
+    pt.x0 = load4(p.x0 + 3 * i);
+    pt.x = load4(p.x + 3 * i);
+    pt.s = Bi[9];
+    for (int k = 0; k < 3; k++) {
+      pt.b[k] = load4(Bi + 3 * k);
+      pt.t[k] = pt.s * load4(Ti + 3 * k);
+    }
+    v4 acc{}, vc[3] = {};
+    detail::hourglass_pair_run<true, VIRIAL>(p, bj, bw, ft, pt, vol[i], inv_vol, po.pair[i],
+                                             po.ghost[i], acc, vc, f, v);
+    detail::hourglass_pair_run<false, VIRIAL>(p, bj, bw, ft, pt, vol[i], inv_vol, po.ghost[i],
+                                              po.first[i + 1], acc, vc, f, v);
+    const double inv_i = vol[i] > 0.0 ? inv_vol[i] : 1.0;
+    for (int d = 0; d < 3; d++) f[3 * i + d] = (f[3 * i + d] + acc[d]) * inv_i;
+    if (VIRIAL) {
+      double vi[6];
+      detail::store_virial(vc, vi);
+      for (int k = 0; k < 6; k++) v[6 * i + k] += vi[k];
+    }
+  }
 }
 
 }    // namespace NOSPD

@@ -679,6 +679,7 @@ void PairPeriNospd::init_style()
       wave_c[i] = NOSPD::pwave_micromodulus(dim, plane_mode, lame[i], cut[i][i], thickness);
   model.wave_micromodulus = wave_c.data();
   fix_bonds->set_model(model);
+  fix_bonds->vote_pair_order(pair_order_usable());
   // no neighbor list: the families are fixed and live in the fix; the
   // ghost cutoff follows from the pair cutoff (horizon) plus the skin
 }
@@ -1017,6 +1018,17 @@ struct ForceOut {
   double *v;                 // 6 per atom in range order, with VIRIAL
 };
 
+// the hourglass pass over pairs (lists in pair order), points [from, to)
+template <int VIRIAL>
+NOSPD_KERNEL_CLONES void hourglass_pairs_kernel(const NOSPD::Positions &p,
+                                                const NOSPD::PairOrder &po, const int *bj,
+                                                const double *bw, const NOSPD::ForceTerms &ft,
+                                                const double *vol, const double *inv_vol,
+                                                int from, int to, double *f, double *v)
+{
+  NOSPD::hourglass_pair_sums<VIRIAL>(p, po, bj, bw, ft, vol, inv_vol, from, to, f, v);
+}
+
 /* forces of points [from, to); without VIRIAL the i-terms B_i sum_j w xi
    and S_i sum_j w U come from the moments rather than from every bond */
 template <int STAB, int VIRIAL>
@@ -1058,6 +1070,7 @@ NOSPD_KERNEL_CLONES void force_range_kernel(const NOSPD::Positions &p, const int
 
 template <int STAB, int VIRIAL> void PairPeriNospd::force_pass(int /*eflag*/)
 {
+  if (STAB == 2 && fix_bonds->pairs_ordered()) return hourglass_pair_pass<VIRIAL>();
   for_ranges(atom->nlocal, true,
              [&](int from, int to, int, Tally &t) { force_range<STAB, VIRIAL>(from, to, t); });
 }
@@ -1075,6 +1088,34 @@ template <int STAB, int VIRIAL> void PairPeriNospd::force_range(int from, int to
     const double *vi = v.data() + 6 * (i - from);
     if (vflag_global)
       for (int k = 0; k < 6; k++) t.virial[k] += vi[k];
+    if (vflag_atom)
+      for (int k = 0; k < 6; k++) vatom[i][k] += vi[k];
+  }
+}
+
+/* ----------------------------------------------------------------------
+   the hourglass pass visiting each pair of owned points once (one thread:
+   the partner's force is a scatter); the lists are in the bonds fix's pair
+   order, which this style asks for where it runs the hourglass on one
+   thread (pair_order_usable)
+------------------------------------------------------------------------- */
+
+template <int VIRIAL> void PairPeriNospd::hourglass_pair_pass()
+{
+  const int nlocal = atom->nlocal;
+  const double *vfrac = atom->vfrac;
+  inv_volume.resize(nlocal);
+  for (int i = 0; i < nlocal; i++) inv_volume[i] = vfrac[i] > 0.0 ? 1.0 / vfrac[i] : 0.0;
+  std::vector<double> v(VIRIAL ? 6 * nlocal : 0, 0.0);
+  const NOSPD::PairOrder po{fix_bonds->bond_first, fix_bonds->bond_pair, fix_bonds->bond_ghost};
+  hourglass_pairs_kernel<VIRIAL>(positions, po, fix_bonds->bond_j, fix_bonds->bond_w,
+                                 {bmat[0], tmat[0]}, vfrac, inv_volume.data(), 0, nlocal,
+                                 atom->f[0], v.data());
+  if (!VIRIAL) return;
+  for (int i = 0; i < nlocal; i++) {
+    const double *vi = v.data() + 6 * i;
+    if (vflag_global)
+      for (int k = 0; k < 6; k++) virial[k] += vi[k];
     if (vflag_atom)
       for (int k = 0; k < 6; k++) vatom[i][k] += vi[k];
   }
@@ -1209,7 +1250,8 @@ double PairPeriNospd::memory_usage()
 {
   // bmat (B^T and the stabilization scalar), tmat (with its spare row),
   // moments, temperature_base
-  return ((double) nmax_work * (NOSPD::BREC + 9 + 6 + 1) + 9) * sizeof(double);
+  return ((double) nmax_work * (NOSPD::BREC + 9 + 6 + 1) + 9 + inv_volume.capacity()) *
+      sizeof(double);
 }
 
 /* ---------------------------------------------------------------------- */

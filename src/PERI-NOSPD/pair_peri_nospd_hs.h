@@ -65,6 +65,8 @@ class PairPeriNospdHS : public PairPeriNospd {
   bool stencil_enabled() const { return stencil_on; }
 
  protected:
+  // the patterns and stencils follow each family's partner order
+  bool pair_order_usable() const override { return false; }
   NOSPD::HSForm hs_form;
   double hs_ratio;
 

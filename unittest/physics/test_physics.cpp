@@ -6,6 +6,8 @@
 
 #include "nospd_test_util.h"
 
+#include "domain.h"
+
 #include "fix_nospd_bonds.h"
 #include "nospd_constitutive.h"
 
@@ -334,6 +336,106 @@ TEST_P(Physics, BrokenBondsUndeformed)
   }
   EXPECT_LT(dF, 1e-14);
   EXPECT_LT(fmax, 1e-20 * blk.E / blk.dx);
+}
+
+/* 8. The hourglass pass over pairs of points (peri/nospd on one thread:
+      each bond i-j of two owned points once, the partner's force as the
+      opposite, nospd_bond_sums.h) against the pass over each end's bonds
+      (peri/nospd/omp, one thread), on an irregular body of uneven volumes,
+      inverse influence, deformed at random: forces and per-atom virial to
+      1e-12; again with bonds broken at both ends; and with a bond left at
+      one end only, where the pair order must not be used.  The periodic
+      box gives bonds to ghosts, which each end takes on its own. */
+struct PairsRun {
+  std::vector<std::array<double, 3>> f, v;    // by atom ID - 1; v: xx yy zz
+  bool ordered = false;
+};
+
+// cut: 0 none, 1 random bonds at both ends, 2 also one bond at one end
+PairsRun hourglass_pairs_run(int dim, bool periodic, const std::string &style, int cut)
+{
+  LAMMPS *lmp = open_lammps();
+  Block b;
+  b.dim = dim;
+  b.periodic = periodic;
+  b.n = dim == 3 ? 9 : 17;
+  b.style = style;
+  b.settings = std::string("strain finite stabilization hourglass 0.2 influence inverse") +
+      (dim == 2 ? " plane strain" : "");
+  make_block(lmp, b);
+  std::mt19937 rng(29);
+  std::uniform_real_distribution<double> U(-1.0, 1.0);
+  double **x = lmp->atom->x, **x0 = lmp->atom->x0;
+  const int nlocal = lmp->atom->nlocal;
+  for (int i = 0; i < nlocal; i++) {
+    for (int k = 0; k < dim; k++) x[i][k] = x0[i][k] = x0[i][k] + 0.2 * b.dx * U(rng);
+    lmp->atom->vfrac[i] *= 1.0 + 0.3 * U(rng);
+  }
+  cmd(lmp, "compute V all stress/atom NULL virial");
+  cmd(lmp, "thermo_style custom step pe");
+  cmd(lmp, "run 0");
+  auto *fb = static_cast<FixNospdBonds *>(lmp->modify->get_fix_by_id("NOSPD_BONDS"));
+  if (cut) {
+    const auto *tag = lmp->atom->tag;
+    for (int i = 0; i < nlocal; i++)
+      for (int s = 0; s < fb->npartner[i]; s++) {
+        const auto tj = fb->partner[i][s];
+        if (tj == 0 || tj < tag[i] || U(rng) < 0.7) continue;
+        fb->partner[i][s] = 0;
+        const int j = lmp->atom->map(tj);
+        for (int t = 0; t < fb->npartner[j]; t++)
+          if (fb->partner[j][t] == tag[i]) fb->partner[j][t] = 0;
+      }
+    // one end only: point 0 forgets its first partner whose bond is to an
+    // owned atom (not a ghost image), which keeps it
+    if (cut == 2)
+      for (int s = 0; s < fb->npartner[0]; s++) {
+        if (!fb->partner[0][s]) continue;
+        const int j = lmp->atom->map(fb->partner[0][s]);
+        if (lmp->domain->closest_image(0, j) >= nlocal) continue;
+        fb->partner[0][s] = 0;
+        break;
+      }
+  }
+  for (int i = 0; i < nlocal; i++)
+    for (int k = 0; k < dim; k++) x[i][k] = x0[i][k] + 0.02 * b.dx * U(rng) + 0.01 * x0[i][(k + 1) % dim];
+  cmd(lmp, "run 0");
+  PairsRun r;
+  r.f = by_tag(lmp, lmp->atom->f);
+  auto *V = lmp->modify->get_compute_by_id("V");
+  V->compute_peratom();
+  r.v = by_tag(lmp, V->array_atom);
+  r.ordered = fb->pairs_ordered();
+  delete lmp;
+  return r;
+}
+
+double rel_max_diff(const std::vector<std::array<double, 3>> &a,
+                    const std::vector<std::array<double, 3>> &b)
+{
+  double d = 0.0, m = 0.0;
+  for (size_t i = 0; i < a.size(); i++)
+    for (int k = 0; k < 3; k++) {
+      d = std::max(d, std::abs(a[i][k] - b[i][k]));
+      m = std::max(m, std::abs(b[i][k]));
+    }
+  return d / m;
+}
+
+TEST(HourglassPairs, MatchEachEndsSums)
+{
+  for (int dim : {3, 2})
+    for (bool periodic : {false, true})
+      for (int cut : {0, 1, 2}) {
+        SCOPED_TRACE("dim " + std::to_string(dim) + (periodic ? ", periodic" : "") + ", cut " +
+                     std::to_string(cut));
+        const PairsRun pairs = hourglass_pairs_run(dim, periodic, "peri/nospd", cut);
+        const PairsRun ends = hourglass_pairs_run(dim, periodic, "peri/nospd/omp", cut);
+        EXPECT_EQ(pairs.ordered, cut < 2);    // one end only: back to each end's sums
+        EXPECT_FALSE(ends.ordered);
+        EXPECT_LT(rel_max_diff(pairs.f, ends.f), 1e-12);
+        EXPECT_LT(rel_max_diff(pairs.v, ends.v), 1e-12);
+      }
 }
 
 std::vector<Variant> all_variants()
