@@ -130,7 +130,8 @@ void FixNospdBonds::setup_post_neighbor()
   }
   // also after a restart, where build_families() does not run
   maxexchange = maxpartner + 22 + nhistory;
-  pair_order = pair_votes[1] > 0 && pair_votes[0] == 0;
+  // the votes of the last init (a run with "pre no" may set up without one)
+  if (pair_votes[0] + pair_votes[1] > 0) pair_order = pair_votes[1] > 0 && pair_votes[0] == 0;
   pair_votes[0] = pair_votes[1] = 0;
   build_bond_arrays();
   all_stale = true;    // after a restart or a change of settings
