@@ -369,9 +369,12 @@ inline void hourglass_pair_sums(const Positions &p, const PairOrder &po, const i
   using namespace simd;
   // f holds forces (density times volume) while the pass adds to it: each
   // row is final once its point has been visited (its partners j > i add
-  // to it no more) and goes back to a density then
+  // to it no more) and goes back to a density then.  Rows of points
+  // without bonds (another pair style's atoms) are left alone.
+  auto scaled = [&](int i) { return po.first[i + 1] > po.first[i] && vol[i] > 0.0; };
   for (int i = from; i < to; i++)
-    for (int d = 0; d < 3; d++) f[3 * i + d] *= (vol[i] > 0.0 ? vol[i] : 1.0);
+    if (scaled(i))
+      for (int d = 0; d < 3; d++) f[3 * i + d] *= vol[i];
   for (int i = from; i < to; i++) {
     const double *Bi = ft.B + BREC * i;
     const double *Ti = ft.T + 9 * i;
@@ -388,8 +391,8 @@ inline void hourglass_pair_sums(const Positions &p, const PairOrder &po, const i
                                              po.ghost[i], acc, vc, f, v);
     detail::hourglass_pair_run<false, VIRIAL>(p, bj, bw, ft, pt, vol[i], inv_vol, po.ghost[i],
                                               po.first[i + 1], acc, vc, f, v);
-    const double inv_i = vol[i] > 0.0 ? inv_vol[i] : 1.0;
-    for (int d = 0; d < 3; d++) f[3 * i + d] = (f[3 * i + d] + acc[d]) * inv_i;
+    if (scaled(i))
+      for (int d = 0; d < 3; d++) f[3 * i + d] = (f[3 * i + d] + acc[d]) * inv_vol[i];
     if (VIRIAL) {
       double vi[6];
       detail::store_virial(vc, vi);
