@@ -454,29 +454,31 @@ void FixNospdBonds::order_for_pairs()
     memory->create(bond_ghost, nmax_pair, "nospd/bonds:bond_ghost");
   }
   uint64_t below = 0, above = 0;
-  std::vector<int> js, slots;
+  std::vector<int> js, slots, group;
   std::vector<double> ws;
   for (int i = 0; i < nlocal; i++) {
     const int from = bond_first[i], to = bond_first[i + 1];
     js.assign(bond_j + from, bond_j + to);
     slots.assign(bond_slot + from, bond_slot + to);
     ws.assign(bond_w + from, bond_w + to);
-    int b = from;
-    // group 0: owned j < i; 1: owned j > i; 2: ghosts (and a bond to itself)
-    for (int group = 0; group < 3; group++) {
-      if (group == 1) bond_pair[i] = b;
-      if (group == 2) bond_ghost[i] = b;
-      for (int k = 0; k < to - from; k++) {
-        const int j = js[k];
-        const int g = (j >= nlocal || j == i) ? 2 : (j < i ? 0 : 1);
-        if (g != group) continue;
-        bond_j[b] = j;
-        bond_slot[b] = slots[k];
-        bond_w[b] = ws[k];
-        b++;
-        if (g == 0) below += pair_hash(j, i);
-        if (g == 1) above += pair_hash(i, j);
-      }
+    // 0: owned j < i; 1: owned j > i; 2: ghosts (and a bond to itself)
+    group.resize(to - from);
+    int count[3] = {0, 0, 0};
+    for (int k = 0; k < to - from; k++) {
+      const int j = js[k];
+      group[k] = (j >= nlocal || j == i) ? 2 : (j < i ? 0 : 1);
+      count[group[k]]++;
+    }
+    int next[3] = {from, from + count[0], from + count[0] + count[1]};
+    bond_pair[i] = next[1];
+    bond_ghost[i] = next[2];
+    for (int k = 0; k < to - from; k++) {
+      const int b = next[group[k]]++;
+      bond_j[b] = js[k];
+      bond_slot[b] = slots[k];
+      bond_w[b] = ws[k];
+      if (group[k] == 0) below += pair_hash(js[k], i);
+      if (group[k] == 1) above += pair_hash(i, js[k]);
     }
   }
   pairs_symmetric = (below == above);
@@ -957,21 +959,40 @@ void FixNospdBonds::bonds_changed()
 void FixNospdBonds::compact_bond_arrays()
 {
   const int nlocal = atom->nlocal;
+  // in pair order the groups keep their order: move their offsets along
+  // and check the symmetry of what is left (see order_for_pairs())
+  uint64_t below = 0, above = 0;
   int b = 0;
   for (int i = 0; i < nlocal; i++) {
     const int start = bond_first[i], end = bond_first[i + 1];
+    const int pair_from = pair_order ? bond_pair[i] : end;
+    const int ghost_from = pair_order ? bond_ghost[i] : end;
     bond_first[i] = b;
-    for (int k = start; k < end; k++) {
-      if (partner[i][bond_slot[k]] == 0) continue;
-      bond_j[b] = bond_j[k];
-      bond_slot[b] = bond_slot[k];
-      bond_w[b] = bond_w[k];
-      b++;
+    auto keep = [&](int from, int to, int group) {
+      for (int k = from; k < to; k++) {
+        if (partner[i][bond_slot[k]] == 0) continue;
+        const int j = bond_j[k];
+        bond_j[b] = j;
+        bond_slot[b] = bond_slot[k];
+        bond_w[b] = bond_w[k];
+        b++;
+        if (group == 0) below += pair_hash(j, i);
+        if (group == 1) above += pair_hash(i, j);
+      }
+    };
+    if (!pair_order) {
+      keep(start, end, 2);
+      continue;
     }
+    keep(start, pair_from, 0);
+    bond_pair[i] = b;
+    keep(pair_from, ghost_from, 1);
+    bond_ghost[i] = b;
+    keep(ghost_from, end, 2);
   }
   bond_first[nlocal] = b;
   bond_version++;
-  if (pair_order) order_for_pairs();
+  if (pair_order) pairs_symmetric = (below == above);
 }
 
 /* ---------------------------------------------------------------------- */

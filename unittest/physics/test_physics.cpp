@@ -343,15 +343,17 @@ TEST_P(Physics, BrokenBondsUndeformed)
       opposite, nospd_bond_sums.h) against the pass over each end's bonds
       (peri/nospd/omp, one thread), on an irregular body of uneven volumes,
       inverse influence, deformed at random: forces and per-atom virial to
-      1e-12; again with bonds broken at both ends; and with a bond left at
-      one end only, where the pair order must not be used.  The periodic
+      1e-12; again with bonds broken at both ends, by hand and by the damage
+      fix in a run; and with a bond left at one end only, where the pair
+      order must not be used.  The periodic
       box gives bonds to ghosts, which each end takes on its own. */
 struct PairsRun {
   std::vector<std::array<double, 3>> f, v;    // by atom ID - 1; v: xx yy zz
   bool ordered = false;
 };
 
-// cut: 0 none, 1 random bonds at both ends, 2 also one bond at one end
+// cut: 0 none, 1 random bonds at both ends, 2 also one bond at one end,
+// 3 bonds broken by fix nospd/damage in a run of three steps
 PairsRun hourglass_pairs_run(int dim, bool periodic, const std::string &style, int cut)
 {
   LAMMPS *lmp = open_lammps();
@@ -399,7 +401,16 @@ PairsRun hourglass_pairs_run(int dim, bool periodic, const std::string &style, i
   }
   for (int i = 0; i < nlocal; i++)
     for (int k = 0; k < dim; k++) x[i][k] = x0[i][k] + 0.02 * b.dx * U(rng) + 0.01 * x0[i][(k + 1) % dim];
-  cmd(lmp, "run 0");
+  if (cut == 3) {
+    // bonds broken by the damage fix during a run: the bond arrays are
+    // compacted in place, in pair order
+    cmd(lmp, "fix D all nospd/damage stretch 0.012");
+    cmd(lmp, "fix I all nve");
+    cmd(lmp, "run 3");
+    EXPECT_GT((bigint) fb->compute_vector(1), 0);
+  } else {
+    cmd(lmp, "run 0");
+  }
   PairsRun r;
   r.f = by_tag(lmp, lmp->atom->f);
   auto *V = lmp->modify->get_compute_by_id("V");
@@ -426,12 +437,12 @@ TEST(HourglassPairs, MatchEachEndsSums)
 {
   for (int dim : {3, 2})
     for (bool periodic : {false, true})
-      for (int cut : {0, 1, 2}) {
+      for (int cut : {0, 1, 2, 3}) {
         SCOPED_TRACE("dim " + std::to_string(dim) + (periodic ? ", periodic" : "") + ", cut " +
                      std::to_string(cut));
         const PairsRun pairs = hourglass_pairs_run(dim, periodic, "peri/nospd", cut);
         const PairsRun ends = hourglass_pairs_run(dim, periodic, "peri/nospd/omp", cut);
-        EXPECT_EQ(pairs.ordered, cut < 2);    // one end only: back to each end's sums
+        EXPECT_EQ(pairs.ordered, cut != 2);    // one end only: back to each end's sums
         EXPECT_FALSE(ends.ordered);
         EXPECT_LT(rel_max_diff(pairs.f, ends.f), 1e-12);
         EXPECT_LT(rel_max_diff(pairs.v, ends.v), 1e-12);
