@@ -398,7 +398,7 @@ void FixNospdBonds::build_bond_arrays()
     for (int n = 0; n < npartner[i]; n++) {
       const tagint t = partner[i][n];
       if (t == 0) continue;    // broken
-      int j = atom->map(t);
+      int j = partner_index(t);
       if (j < 0) {
         missing.push_back({i, n, t});
         continue;
@@ -422,6 +422,18 @@ void FixNospdBonds::build_bond_arrays()
   MPI_Allreduce(&nmissing, &anymissing, 1, MPI_INT, MPI_SUM, world);
   if (anymissing) resolve_missing(missing);
   if (pair_order) order_for_pairs();
+}
+
+/* ----------------------------------------------------------------------
+   local index of a partner ID, -1 if no owned or ghost atom has it.  An
+   array map is reset only up to the largest ID left (Atom::map_init): the
+   entries of deleted atoms with larger IDs (fix evaporate, delete_atoms
+   compress no) keep the indices they had, which other atoms now hold.
+------------------------------------------------------------------------- */
+
+int FixNospdBonds::partner_index(tagint t) const
+{
+  return t > atom->map_tag_max ? -1 : atom->map(t);
 }
 
 /* ----------------------------------------------------------------------
@@ -703,7 +715,7 @@ void FixNospdBonds::resolve_missing(const std::vector<MissingPartner> &missing)
                  MPI_LMP_TAGINT, world);
   std::vector<double> found(4 * nall, 0.0), found_all(4 * nall);
   for (int k = 0; k < nall; k++) {
-    const int j = atom->map(tags[k]);
+    const int j = partner_index(tags[k]);
     if (j < 0 || j >= atom->nlocal) continue;
     found[4 * k] = 1.0;
     for (int d = 0; d < 3; d++) found[4 * k + 1 + d] = atom->x[j][d];

@@ -193,6 +193,7 @@ class FixNospdBonds : public FixPeriNeigh {
     tagint tag;
   };
   void resolve_missing(const std::vector<MissingPartner> &missing);
+  int partner_index(tagint t) const;
   void follow_renumbered_tags();
   void report_stable_timestep();
   std::vector<double> dt_reported;    // per type, the estimate last logged

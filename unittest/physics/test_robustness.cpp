@@ -174,14 +174,20 @@ TEST_F(Robustness, PerturbedPointsAreNotCoincident)
    must answer any deformation exactly as the same body created notched:
    the same bonds, the same K, the same forces.  With `compress yes` (the
    default) LAMMPS renumbers the atoms, with `compress no` it does not.
+   Atoms deleted during a run (fix evaporate) likewise.  A slab at the top
+   holds the largest IDs: LAMMPS's array map then stops short of them and
+   keeps their old entries, which other atoms' indices now fill.
 ------------------------------------------------------------------------- */
+
+enum class Notch { BUILT, DELETED, EVAPORATED };
 
 struct Snapshot {
   bigint bonds, vanished;
   std::map<std::array<long, 3>, std::array<double, 3>> force;    // by reference position
 };
 
-Snapshot notched(bool delete_after, const std::string &compress)
+Snapshot notched(Notch how, const std::string &compress,
+                  const std::string &where = "3.5 5.5 -1 3.5 -1 9")
 {
   LAMMPS *lmp = open_lammps();
   cmd(lmp, "units si");
@@ -192,14 +198,22 @@ Snapshot notched(bool delete_after, const std::string &compress)
   cmd(lmp, "region box block -0.25 9.75 -0.25 7.75 -0.25 5.75");
   cmd(lmp, "create_box 1 box");
   cmd(lmp, "create_atoms 1 box");
-  cmd(lmp, "region notch block 3.5 5.5 -1 3.5 -1 9 units lattice");
-  if (!delete_after) cmd(lmp, "delete_atoms region notch compress no");
+  cmd(lmp, "region notch block " + where + " units lattice");
+  if (how == Notch::BUILT) cmd(lmp, "delete_atoms region notch compress no");
   cmd(lmp, "set group all density 7850");
   cmd(lmp, "set group all volume 1e-9");
   cmd(lmp, "pair_style peri/nospd");
   cmd(lmp, "pair_coeff * * 200e9 0.3 0.003015");
   cmd(lmp, "run 0");
-  if (delete_after) cmd(lmp, "delete_atoms region notch compress " + compress);
+  if (how == Notch::DELETED) cmd(lmp, "delete_atoms region notch compress " + compress);
+  if (how == Notch::EVAPORATED) {
+    // at rest in the reference state: the step moves nothing
+    cmd(lmp, "fix 1 all nve");
+    cmd(lmp, "fix ev all evaporate 1 100000 notch 4321");
+    cmd(lmp, "run 1");
+    cmd(lmp, "unfix ev");
+    cmd(lmp, "unfix 1");
+  }
   // a smooth nonlinear displacement of the reference positions
   double **x = lmp->atom->x, **x0 = lmp->atom->x0;
   for (int i = 0; i < lmp->atom->nlocal; i++) {
@@ -241,8 +255,8 @@ void expect_same_body(const Snapshot &a, const Snapshot &b)
 
 TEST(RobustnessDelete, RenumberedIdsBodyAsIfBuiltNotched)
 {
-  const auto built = notched(false, "no");
-  const auto cut = notched(true, "yes");
+  const auto built = notched(Notch::BUILT, "no");
+  const auto cut = notched(Notch::DELETED, "yes");
   expect_same_body(built, cut);
   EXPECT_EQ(built.vanished, 0);
   EXPECT_GT(cut.vanished, 0);
@@ -250,10 +264,28 @@ TEST(RobustnessDelete, RenumberedIdsBodyAsIfBuiltNotched)
 
 TEST(RobustnessDelete, KeptIdsBodyAsIfBuiltNotched)
 {
-  const auto built = notched(false, "no");
-  const auto cut = notched(true, "no");
+  const auto built = notched(Notch::BUILT, "no");
+  const auto cut = notched(Notch::DELETED, "no");
   expect_same_body(built, cut);
   EXPECT_GT(cut.vanished, 0);
+}
+
+TEST(RobustnessDelete, LargestIdsDeletedBodyAsIfBuiltNotched)
+{
+  const std::string top = "-1 11 -1 9 3.5 9";
+  const auto built = notched(Notch::BUILT, "no", top);
+  expect_same_body(built, notched(Notch::DELETED, "no", top));
+  expect_same_body(built, notched(Notch::DELETED, "yes", top));
+}
+
+TEST(RobustnessDelete, EvaporatedDuringRunBodyAsIfBuiltNotched)
+{
+  const auto built = notched(Notch::BUILT, "no");
+  const auto cut = notched(Notch::EVAPORATED, "no");
+  expect_same_body(built, cut);
+  EXPECT_GT(cut.vanished, 0);
+  const std::string top = "-1 11 -1 9 3.5 9";
+  expect_same_body(notched(Notch::BUILT, "no", top), notched(Notch::EVAPORATED, "no", top));
 }
 
 /* ----------------------------------------------------------------------
