@@ -149,7 +149,8 @@ class FamilyPlasticity : public BondLaw, public FamilyRows {
     // factor of the two once for all of them
     env.has_factor = fl->active;
     if (fl->active)
-      env.factor = fl->factor(replay ? hn[FamilyHist::RATE_USED] : hn[Hist::RATE],
+      env.factor = fl->factor(replay ? hn[FamilyHist::RATE_USED]
+                                     : (env.dt > 0.0 ? hn[Hist::RATE] : 0.0),
                               env.T_base + (replay ? hn[FamilyHist::HEAT_USED] : hn[Hist::HEAT]));
   }
 
@@ -186,7 +187,7 @@ class FamilyPlasticity : public BondLaw, public FamilyRows {
   void finish()
   {
     if (replay) return;
-    h1[FamilyHist::RATE_USED] = hn[Hist::RATE];
+    h1[FamilyHist::RATE_USED] = env.dt > 0.0 ? hn[Hist::RATE] : 0.0;
     h1[FamilyHist::HEAT_USED] = hn[Hist::HEAT];
     h1[Hist::WORK] = hn[Hist::WORK] + sum[S_WORK];
     h1[Hist::HEAT] = hn[Hist::HEAT] + sum[S_HEAT];

@@ -174,7 +174,9 @@ struct ThermalLaw {
 
 // What the point needs from its surroundings.
 struct PointEnv {
-  double dt = 0.0;        // time step of the increment (plastic rate)
+  // time step of the increment, for the strain rate; 0: quasi-static (a
+  // minimize step), where the Johnson-Cook rate term is off
+  double dt = 0.0;
   double T_base = 0.0;    // temperature set by the user (adiabatic rise is added)
   double rho = 0.0;       // mass density (heating)
   // FlowLaw::factor of the history's rate and temperature, if the caller
@@ -260,7 +262,7 @@ namespace detail {
       const double norm = eta.norm();
       const double q = std::sqrt(1.5) * norm;
       const double a_n = hn[Hist::EQPS];
-      const double rate_n = hn[Hist::RATE];
+      const double rate_n = env.dt > 0.0 ? hn[Hist::RATE] : 0.0;
       const double f = env.has_factor ? env.factor : fl.factor(rate_n, T);
       double s0;
       const double sy = fl.flow_at(a_n, f, s0);
@@ -400,7 +402,7 @@ inline ReturnStatus inelastic_point_3d(Law law, const Lame &m, const FlowLaw &fl
   PointEnv env1 = env;
   if (fl.active && !env1.has_factor) {
     env1.has_factor = true;
-    env1.factor = fl.factor(hn[Hist::RATE], env.T_base + hn[Hist::HEAT]);
+    env1.factor = fl.factor(env.dt > 0.0 ? hn[Hist::RATE] : 0.0, env.T_base + hn[Hist::HEAT]);
   }
   double W_trial;
   const ReturnStatus st = detail::point_core(law, m, fl, th, env1, F, hn, h1, P, W, W_trial);

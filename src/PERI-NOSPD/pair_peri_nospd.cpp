@@ -778,9 +778,9 @@ void PairPeriNospd::constitutive_range(int from, int to, int eflag, Tally &t)
   const int nhist = fix_bonds->nhistory;
   double **hist = fix_bonds->history;
   double **hist_trial = fix_bonds->history_trial;
-  NOSPD::PointEnv env;
-  env.dt = update->dt;
   const bool minimizing = (update->whichflag == 2);
+  NOSPD::PointEnv env;
+  env.dt = minimizing ? 0.0 : update->dt;    // a minimize step is quasi-static: no rate
 
   for (int i = from; i < to; i++) {
     const int itype = type[i];

@@ -483,7 +483,7 @@ void PairPeriNospdHS::begin_history(int i, const BondPattern &p, FamilyWork &w, 
     law.m = &lame[itype];
     law.fl = &flow[itype];
     law.th = &thermal[itype];
-    law.env.dt = update->dt;
+    law.env.dt = update->whichflag == 2 ? 0.0 : update->dt;    // minimize: quasi-static
     law.env.T_base = temperature_base[i];
     law.env.rho = atom->rmass[i];
     law.bond_return = bond_return_kernel;

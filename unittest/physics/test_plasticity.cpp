@@ -425,6 +425,39 @@ TEST_P(Inelastic, MinimizeIsOneLoadStep)
   EXPECT_GT(amax, 1e-3);
 }
 
+// A minimize step is quasi-static: the Johnson-Cook rate term stays off,
+// whatever the time step (which would turn the step's strain into a rate).
+// Two load steps (the second starts from the first's accepted state) give
+// the plastic strain of the same law with C = 0, for two time steps.
+TEST_P(Inelastic, MinimizeHasNoStrainRate)
+{
+  std::vector<double> eq[3];
+  const char *C[3] = {"0.0", "0.05", "0.05"};
+  const char *dt[3] = {"1e-9", "1e-9", "1.0"};
+  for (int k = 0; k < 3; k++) {
+    delete lmp;
+    lmp = open_lammps();
+    block("strain small", std::string("johnson_cook 1e8 2e9 1.0 ") + C[k] + " 1.0 1.0 293 1500",
+          8, true);
+    cmd(lmp, "compute s all nospd/atom eqps");
+    cmd(lmp, std::string("timestep ") + dt[k]);
+    cmd(lmp, "run 0");
+    cmd(lmp, "min_modify dmax 1e-5");
+    for (int step = 0; step < 2; step++) {
+      cmd(lmp, "change_box all x scale 1.002 y scale 0.999 remap units box");
+      cmd(lmp, "minimize 0.0 1e-12 2000 20000");
+    }
+    eq[k] = peratom(lmp, "s", 0);
+  }
+  double amax = 0.0;
+  for (size_t i = 0; i < eq[0].size(); i++) {
+    amax = std::max(amax, eq[0][i]);
+    EXPECT_NEAR(eq[1][i], eq[0][i], 1e-8 * eq[0][i]) << "atom " << i + 1;
+    EXPECT_NEAR(eq[2][i], eq[0][i], 1e-8 * eq[0][i]) << "atom " << i + 1;
+  }
+  EXPECT_GT(amax, 1e-3);
+}
+
 // During minimize the energy of a yielding point is the step's incremental
 // potential W_e + dD, whose gradient the returned stress is (kernel tests
 // StressIsIncrementalPotentialGradient, FormIIIsIncrementalPotentialGradient);
