@@ -125,9 +125,11 @@ void FixNospdBonds::setup_post_neighbor()
   if (first) {
     build_families();
     first = 0;
+    family_horizon.clear();
   } else {
     follow_renumbered_tags();
   }
+  check_horizons();
   // also after a restart, where build_families() does not run
   maxexchange = maxpartner + 22 + nhistory;
   // the votes of the last init (a run with "pre no" may set up without one)
@@ -139,6 +141,35 @@ void FixNospdBonds::setup_post_neighbor()
   count_bonds();
   if (built_now) report_families();
   if (update->whichflag == 1) report_stable_timestep();
+}
+
+/* ----------------------------------------------------------------------
+   families are built once, with the horizons of the first run (or those
+   of the first run after a restart): a horizon changed since (pair_coeff
+   between runs) would reach the weights and material constants but not
+   the families, so it is an error
+------------------------------------------------------------------------- */
+
+void FixNospdBonds::check_horizons()
+{
+  const int n = atom->ntypes;
+  const int *active = model.active;
+  if (family_horizon.empty()) {
+    family_horizon.assign((n + 1) * (n + 1), 0.0);
+    for (int i = 1; i <= n; i++)
+      for (int j = 1; j <= n; j++)
+        if (!active || (active[i] && active[j])) family_horizon[i * (n + 1) + j] = model.horizon[i][j];
+    return;
+  }
+  for (int i = 1; i <= n; i++)
+    for (int j = i; j <= n; j++) {
+      const double built = family_horizon[i * (n + 1) + j], now = model.horizon[i][j];
+      if (built > 0.0 && (!active || (active[i] && active[j])) &&
+          std::abs(now - built) > 1.0e-12 * built)
+        error->all(FLERR, "pair_coeff {} {}: horizon {} differs from {}, with which the bond "
+                   "families were built at the first run: families are not rebuilt; keep the "
+                   "horizon, or start over with new atoms", i, j, now, built);
+    }
 }
 
 /* ---------------------------------------------------------------------- */

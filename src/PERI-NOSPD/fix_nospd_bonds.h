@@ -137,6 +137,9 @@ class FixNospdBonds : public FixPeriNeigh {
   double **history;          // [nmax][nhistory], accepted
   double **history_trial;    // [nmax][nhistory], latest force evaluation
   double history_sum(int k); // sum over atoms of history[k] (global)
+  // per type, the law whose state the history holds (the pair style's
+  // code; empty after a restart)
+  std::vector<int> history_law;
 
   // ---- state read by pair styles, computes and the damage fix ----
   int nbond_atoms;        // owned atoms covered by the CSR arrays
@@ -195,6 +198,8 @@ class FixNospdBonds : public FixPeriNeigh {
   void resolve_missing(const std::vector<MissingPartner> &missing);
   int partner_index(tagint t) const;
   void follow_renumbered_tags();
+  std::vector<double> family_horizon;    // [(ntypes+1)^2] horizons the families were built with
+  void check_horizons();
   void report_stable_timestep();
   std::vector<double> dt_reported;    // per type, the estimate last logged
   double dt_checked = -1.0;           // the time step last checked against it

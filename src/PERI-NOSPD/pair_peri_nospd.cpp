@@ -666,6 +666,7 @@ void PairPeriNospd::init_style()
 
   ensure_bonds_fix();
   if (history_size) fix_bonds->set_history_size(history_size);
+  check_history_law();
   NospdBondModel model;
   model.horizon = cut;
   model.influence = influence;
@@ -682,6 +683,55 @@ void PairPeriNospd::init_style()
   fix_bonds->vote_pair_order(pair_order_usable());
   // no neighbor list: the families are fixed and live in the fix; the
   // ghost cutoff follows from the pair cutoff (horizon) plus the skin
+}
+
+/* ----------------------------------------------------------------------
+   A type whose atoms carry plastic state from an earlier run (the plastic
+   strain, eqps and back stress of plasticity; a UMAT's state variables)
+   must keep a law that reads that state: an elastic law would drop it
+   (the body springs back towards its reference shape, creating energy),
+   small and hencky store different plastic strains, a UMAT its own.
+   The law per type is kept in the bonds fix, which a pair_style command
+   repeating the style keeps (another style starts new families, and a
+   restart file does not hold the law: nothing to check then).
+------------------------------------------------------------------------- */
+
+void PairPeriNospd::check_history_law()
+{
+  const int ntypes = atom->ntypes;
+  std::vector<int> &last = fix_bonds->history_law;
+  // 0: elastic; else 1 + the strain law (plasticity: small or hencky; UMATs)
+  const int umat_code = 1 + static_cast<int>(Law::UMAT_SMALL);
+  std::vector<int> now(ntypes + 1, 0);
+  for (int t = 1; t <= ntypes; t++)
+    if (active[t] && inelastic[t] != POINT_ELASTIC) now[t] = 1 + static_cast<int>(strain_law);
+  if ((int) last.size() == ntypes + 1 && fix_bonds->nhistory) {
+    std::vector<int> carries(ntypes + 1, 0), carries_all(ntypes + 1, 0);
+    const int *type = atom->type;
+    double **h = fix_bonds->history;
+    for (int i = 0; i < atom->nlocal; i++) {
+      const int t = type[i];
+      if (!active[t] || !last[t] || last[t] == now[t] || carries[t]) continue;
+      const int n = last[t] >= umat_code ? fix_bonds->nhist_atom : NOSPD::Hist::BACK + 6;
+      for (int k = 0; k < n && !carries[t]; k++) carries[t] = (h[i][k] != 0.0);
+    }
+    MPI_Allreduce(carries.data(), carries_all.data(), ntypes + 1, MPI_INT, MPI_MAX, world);
+    static const char *names[] = {"small", "finite", "svk", "neohookean", "hencky",
+                                  "formula", "umat", "umat finite"};
+    auto law_name = [&](int code) -> std::string {
+      if (!code) return "an elastic law";
+      if (code >= umat_code) return "a UMAT";
+      return fmt::format("plasticity under strain {}", names[code - 1]);
+    };
+    for (int t = 1; t <= ntypes; t++)
+      if (carries_all[t])
+        error->all(FLERR, "pair_coeff {} {}: the atoms of type {} carry plastic state from {} "
+                   "of an earlier run, which {} would not read: keep the type's law", t, t, t,
+                   law_name(last[t]), law_name(now[t]));
+  }
+  last.resize(ntypes + 1, 0);
+  for (int t = 1; t <= ntypes; t++)
+    if (active[t]) last[t] = now[t];
 }
 
 /* ----------------------------------------------------------------------

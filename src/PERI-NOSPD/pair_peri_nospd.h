@@ -197,6 +197,7 @@ class PairPeriNospd : public Pair {
   NOSPD::UmatPoint umat_env(int i) const;
   void umat_failure(int i, NOSPD::UmatStatus st, const NOSPD::Mat3 &F) const;
   void check_inelastic(int itype) const;
+  void check_history_law();
   void fill_base_temperature();
   void inelastic_failure(int i, NOSPD::ReturnStatus st, const NOSPD::Mat3 &F) const;
   void law_failure(int i, const NOSPD::Mat3 &F) const;

@@ -145,6 +145,23 @@ TEST_F(BadInput, UnknownKeyword)
   EXPECT_THAT(error_of(lmp, "pair_style peri/nospd plane stress"), HasSubstr("plane applies to 2D only"));
 }
 
+// families are built once: a horizon changed between runs is an error
+// naming the types and both values; the same horizon, or other constants,
+// may be given again
+TEST_F(BadInput, HorizonChangedBetweenRuns)
+{
+  deck();
+  cmd(lmp, "pair_style peri/nospd");
+  cmd(lmp, "pair_coeff * * 200e9 0.3 0.003015");
+  cmd(lmp, "run 0");
+  cmd(lmp, "pair_coeff * * 100e9 0.25 0.003015");
+  EXPECT_EQ(error_of(lmp, "run 0"), "");
+  cmd(lmp, "pair_coeff * * 200e9 0.3 0.0045");
+  const auto msg = error_of(lmp, "run 0");
+  EXPECT_THAT(msg, HasSubstr("pair_coeff 1 1: horizon 0.0045 differs from 0.003015"));
+  EXPECT_THAT(msg, HasSubstr("families are not rebuilt"));
+}
+
 TEST_F(BadInput, MaterialNotInFile)
 {
   EXPECT_THAT(pair_coeff_error("* * materials.nospd unobtainium 0.003"),

@@ -659,4 +659,43 @@ TEST_F(InelasticBadInput, HeatWithoutPlasticity)
   EXPECT_THAT(coeff_error("", "heat 450 0.9"), HasSubstr("heat and jc_failure need plasticity"));
 }
 
+// plastic state of an earlier run needs a law that reads it: an elastic
+// law or the other strain measure is an error; the same law with other
+// constants is not, nor is a law change for a type that never yielded
+TEST_F(InelasticBadInput, PlasticStateKeepsItsLaw)
+{
+  Block b;
+  b.n = 5;
+  b.settings = "strain small";
+  make_block(lmp, b);
+  const std::string elastic = "pair_coeff * * 200e9 0.3 0.003";
+  cmd(lmp, elastic + " yield 1e8");
+  cmd(lmp, "run 0");
+  cmd(lmp, "change_box all x scale 1.01 remap units box");
+  cmd(lmp, "run 1");    // yields, and the step is accepted
+  cmd(lmp, elastic + " yield 2e8");
+  EXPECT_EQ(error_of(lmp, "run 0"), "");
+  cmd(lmp, elastic);
+  EXPECT_THAT(error_of(lmp, "run 0"),
+              HasSubstr("pair_coeff 1 1: the atoms of type 1 carry plastic state from plasticity "
+                        "under strain small of an earlier run, which an elastic law would not "
+                        "read"));
+  cmd(lmp, "pair_style peri/nospd strain hencky");
+  cmd(lmp, elastic + " yield 1e8");
+  EXPECT_THAT(error_of(lmp, "run 0"), HasSubstr("which plasticity under strain hencky would not"));
+}
+
+TEST_F(InelasticBadInput, LawChangeWithoutPlasticStateAllowed)
+{
+  Block b;
+  b.n = 5;
+  b.settings = "strain small";
+  make_block(lmp, b);
+  cmd(lmp, "pair_coeff * * 200e9 0.3 0.003 yield 1e12");
+  cmd(lmp, "change_box all x scale 1.001 remap units box");
+  cmd(lmp, "run 1");    // elastic range
+  cmd(lmp, "pair_coeff * * 200e9 0.3 0.003");
+  EXPECT_EQ(error_of(lmp, "run 0"), "");
+}
+
 }    // namespace
