@@ -56,14 +56,29 @@ FixNospdBonds::FixNospdBonds(LAMMPS *lmp, int narg, char **arg) :
   FixNospdBonds::grow_arrays(atom->nmax);
   const int nlocal = atom->nlocal;
   for (int i = 0; i < nlocal; i++) {
-    singular[i] = 0;
-    family_size[i] = 0;
-    stale[i] = 1;
-    for (int k = 0; k < 9; k++) kinv[i][k] = defgrad[i][k] = pk1[i][k] = 0.0;
-    for (int k = 0; k < 3; k++) xi_moment[i][k] = u_moment[i][k] = 0.0;
-    energy_density[i] = 0.0;
+    clear_atom(i);
     own_tag[i] = atom->tag[i];
   }
+}
+
+/* ----------------------------------------------------------------------
+   an atom without a family and without state: atoms present when the fix
+   is made, and atoms created after the families were built (no bonds;
+   K^-1 computed, and found singular, at the next rebuild)
+------------------------------------------------------------------------- */
+
+void FixNospdBonds::clear_atom(int i)
+{
+  npartner[i] = 0;
+  vinter[i] = wvolume[i] = 0.0;
+  singular[i] = 0;
+  family_size[i] = 0;
+  stale[i] = 1;
+  for (int k = 0; k < 9; k++) kinv[i][k] = defgrad[i][k] = pk1[i][k] = 0.0;
+  for (int k = 0; k < 3; k++) xi_moment[i][k] = u_moment[i][k] = 0.0;
+  energy_density[i] = 0.0;
+  own_tag[i] = 0;
+  for (int k = 0; k < nhistory; k++) history[i][k] = history_trial[i][k] = 0.0;
 }
 
 /* ---------------------------------------------------------------------- */
@@ -1228,8 +1243,7 @@ void FixNospdBonds::grow_arrays(int nmax)
 
 void FixNospdBonds::set_arrays(int i)
 {
-  own_tag[i] = 0;    // IDs of new atoms are set after this call: adopted at setup
-  for (int k = 0; k < nhistory; k++) history[i][k] = history_trial[i][k] = 0.0;
+  clear_atom(i);    // own_tag 0: IDs of new atoms are set after this call, adopted at setup
 }
 
 /* ---------------------------------------------------------------------- */

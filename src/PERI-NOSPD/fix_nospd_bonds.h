@@ -188,6 +188,7 @@ class FixNospdBonds : public FixPeriNeigh {
   double ref_prd[3];     // periodic lengths of the reference configuration
 
   void build_families();
+  void clear_atom(int i);
   void check_coincident(int i, int j, double r) const;
   void update_x0s();
   void build_bond_arrays();

@@ -14,6 +14,7 @@
 #include "fix_nospd_bonds.h"
 #include "gmock/gmock.h"
 
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -286,6 +287,72 @@ TEST(RobustnessDelete, EvaporatedDuringRunBodyAsIfBuiltNotched)
   EXPECT_GT(cut.vanished, 0);
   const std::string top = "-1 11 -1 9 3.5 9";
   expect_same_body(notched(Notch::BUILT, "no", top), notched(Notch::EVAPORATED, "no", top));
+}
+
+/* ----------------------------------------------------------------------
+   create_atoms after the families exist: the new atoms get no family and
+   no state, whatever their rows of the fix's arrays held before (here
+   filled with garbage, as reused memory may be), and the body's bonds and
+   forces stay those of the body alone
+------------------------------------------------------------------------- */
+
+TEST(RobustnessCreate, NewAtomsGetNoFamily)
+{
+  LAMMPS *lmp = open_lammps();
+  cmd(lmp, "units si");
+  cmd(lmp, "atom_style peri");
+  cmd(lmp, "atom_modify map array");
+  cmd(lmp, "boundary f f f");    // a fixed box: room for the new atoms
+  cmd(lmp, "lattice sc 0.001");
+  cmd(lmp, "region box block -0.25 11.75 -0.25 5.75 -0.25 5.75");
+  cmd(lmp, "create_box 1 box");
+  cmd(lmp, "region body block -0.25 5.75 -0.25 5.75 -0.25 5.75");
+  cmd(lmp, "create_atoms 1 region body");
+  cmd(lmp, "set group all density 7850");
+  cmd(lmp, "set group all volume 1e-9");
+  cmd(lmp, "pair_style peri/nospd");
+  cmd(lmp, "pair_coeff * * 200e9 0.3 0.003015");
+  cmd(lmp, "displace_atoms all ramp x 0.0 1e-6 x 0.0 0.006 units box");
+  cmd(lmp, "run 0");
+  auto *fb = bonds(lmp);
+  const bigint nbonds = fb->nbonds_total, nsingular = fb->nsingular;
+  const int nbody = lmp->atom->nlocal;
+  std::vector<std::array<double, 3>> f0(nbody);
+  for (int i = 0; i < nbody; i++)
+    f0[lmp->atom->tag[i] - 1] = {lmp->atom->f[i][0], lmp->atom->f[i][1], lmp->atom->f[i][2]};
+  for (int i = nbody; i < lmp->atom->nmax; i++) {
+    fb->npartner[i] = 7;
+    for (int n = 0; n < 7; n++) fb->partner[i][n] = 1 + (n * 37 + i) % nbody;
+    fb->singular[i] = 5;
+    fb->family_size[i] = 99;
+    for (int k = 0; k < 9; k++) fb->kinv[i][k] = 1e30;
+  }
+  cmd(lmp, "region far block 8.5 10.5 1.5 3.5 1.5 3.5");
+  cmd(lmp, "create_atoms 1 region far");
+  const int nnew = lmp->atom->nlocal - nbody;
+  ASSERT_GT(nnew, 0);
+  cmd(lmp, "set group all density 7850");
+  cmd(lmp, "set group all volume 1e-9");
+  cmd(lmp, "run 0");
+  EXPECT_EQ(fb->nbonds_total, nbonds);
+  EXPECT_EQ(fb->nsingular, nsingular + nnew);
+  const int *first = fb->bond_first;
+  double fmax = 0.0, diff = 0.0;
+  for (int i = 0; i < lmp->atom->nlocal; i++) {
+    if (lmp->atom->tag[i] > nbody) {
+      EXPECT_EQ(first[i + 1] - first[i], 0) << "new atom " << lmp->atom->tag[i];
+      for (int k = 0; k < 3; k++) EXPECT_EQ(lmp->atom->f[i][k], 0.0);
+      continue;
+    }
+    const auto &f = f0[lmp->atom->tag[i] - 1];
+    for (int k = 0; k < 3; k++) {
+      fmax = std::max(fmax, std::abs(f[k]));
+      diff = std::max(diff, std::abs(f[k] - lmp->atom->f[i][k]));
+    }
+  }
+  EXPECT_GT(fmax, 0.0);
+  EXPECT_LT(diff, 1e-12 * fmax);
+  delete lmp;
 }
 
 /* ----------------------------------------------------------------------
