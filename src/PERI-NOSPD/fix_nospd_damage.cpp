@@ -383,7 +383,7 @@ void FixNospdDamage::setup_tables()
 
   if (from_g0 && !g0_given)
     for (int i = 1; i <= ntypes; i++)
-      if (!(pair->fracture_energy(i) > 0.0))
+      if (pair->owns_type(i) && !(pair->fracture_energy(i) > 0.0))
         error->all(FLERR, "{}: atom type {} has no fracture energy G0: read its material from a "
                    "material file with a G0, or give G0 after 'g0'", cmd, i);
 
@@ -396,8 +396,11 @@ void FixNospdDamage::setup_tables()
     return NOSPD::critical_energy_from_g0(dim, d, t, G0);
   };
 
+  // types of other pair styles (pair hybrid) have no bonds and no contact here
   for (int i = 1; i <= ntypes; i++)
     for (int j = 1; j <= ntypes; j++) {
+      delta[i][j] = crit[i][j] = kcontact[i][j] = 0.0;
+      if (!pair->owns_type(i) || !pair->owns_type(j)) continue;
       const double d = pair->horizon(i, j);
       delta[i][j] = d;
       crit[i][j] = std::min(type_value(i, d), type_value(j, d));
@@ -421,17 +424,24 @@ void FixNospdDamage::setup_tables()
       contact_rc = 1.35 * dx;
     }
     double dmin = 1e300;
+    int imin = 0, jmin = 0;
     for (int i = 1; i <= ntypes; i++)
-      for (int j = 1; j <= ntypes; j++) dmin = std::min(dmin, delta[i][j]);
-    if (!(contact_rc < dmin))
-      error->all(FLERR, "{}: contact radius {} must be smaller than the horizon {}", cmd,
-                 contact_rc, dmin);
+      for (int j = 1; j <= ntypes; j++)
+        if (pair->owns_type(i) && pair->owns_type(j) && delta[i][j] < dmin) {
+          dmin = delta[i][j];
+          imin = i, jmin = j;
+        }
+    if (imin && !(contact_rc < dmin))
+      error->all(FLERR, "{}: contact radius {} must be smaller than the horizon {} of types {} {}",
+                 cmd, contact_rc, dmin, imin, jmin);
   }
 
   if (comm->me == 0 && criterion != NONE) {
     std::string msg = fmt::format("{} {}: critical value per type pair:", cmd, id);
     for (int i = 1; i <= ntypes; i++)
-      for (int j = i; j <= ntypes; j++) msg += fmt::format(" {}-{} {:.6g}", i, j, crit[i][j]);
+      for (int j = i; j <= ntypes; j++)
+        if (pair->owns_type(i) && pair->owns_type(j))
+          msg += fmt::format(" {}-{} {:.6g}", i, j, crit[i][j]);
     utils::logmesg(lmp, msg + "\n");
   }
 }
@@ -942,6 +952,7 @@ void FixNospdDamage::contact_forces()
           }
         if (bonded) continue;
         const int it = type[i], jt = type[j];
+        if (delta[it][jt] == 0.0) continue;    // another pair style's type
         const double kv = kcontact[it][jt] * vfrac[j] / delta[it][jt];
         const double fpair = kv * (r - dij) / r;
         f[i][0] += fpair * dx;

@@ -63,6 +63,8 @@ class PairPeriNospd : public Pair {
   double poisson_ratio(int itype) const { return poisson[itype]; }
   double plate_thickness() const { return thickness; }
   double horizon(int itype, int jtype) const { return cut[itype][jtype]; }
+  // a type this style owns (under pair hybrid others may belong to other styles)
+  bool owns_type(int itype) const { return active[itype] != 0; }
   int stabilization_kind() const { return static_cast<int>(stab); }
   // built-in inelastic materials (history kept by the bonds fix)
   bool has_history(int itype) const { return inelastic[itype] == POINT_PLASTIC; }

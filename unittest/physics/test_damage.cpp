@@ -663,6 +663,37 @@ TEST_F(Damage, ComputeDamageAtomCompatible)
   EXPECT_LT(worst, 1e-14);
 }
 
+/* Under pair hybrid/overlay a type of another style (here soft) has no
+   horizon and no material: the damage fix's criteria and contact take the
+   NOSPD types only (contact was refused with "horizon 0") */
+TEST_F(Damage, HybridTypeOfAnotherStyleIgnored)
+{
+  cmd(lmp, "units si");
+  cmd(lmp, "atom_style peri");
+  cmd(lmp, "atom_modify map array");
+  cmd(lmp, "boundary f f f");
+  cmd(lmp, "lattice sc 0.001");
+  cmd(lmp, "region box block -0.25 9.75 -0.25 5.75 -0.25 5.75");
+  cmd(lmp, "create_box 2 box");
+  cmd(lmp, "region a block -0.25 5.75 -0.25 5.75 -0.25 5.75");
+  cmd(lmp, "region b block 8.5 9.5 1.5 2.5 1.5 2.5");
+  cmd(lmp, "create_atoms 1 region a");
+  cmd(lmp, "create_atoms 2 region b");
+  cmd(lmp, "set group all density 7850");
+  cmd(lmp, "set group all volume 1e-9");
+  cmd(lmp, "pair_style hybrid/overlay nospd soft 0.001");
+  cmd(lmp, "pair_coeff 1 1 nospd 200e9 0.3 0.003015");
+  cmd(lmp, "pair_coeff * * soft 1.0e3");
+  cmd(lmp, "fix dmg all nospd/damage stretch 0.01 contact yes");
+  EXPECT_EQ(error_of(lmp, "run 0"), "");
+  EXPECT_GT(bonds()->nbonds_total, 0);
+  cmd(lmp, "unfix dmg");
+  const auto msg = error_of(lmp, "fix dmg all nospd/damage stretch 0.01 contact yes contact/radius 0.004");
+  EXPECT_EQ(msg, "");
+  EXPECT_THAT(error_of(lmp, "run 0"),
+              HasSubstr("contact radius 0.004 must be smaller than the horizon 0.003015 of types 1 1"));
+}
+
 /* Contact: two plates thrown at each other.  Without contact they pass
    through each other; with it no point of one comes closer than half a
    spacing to a point of the other, and momentum is conserved. */
