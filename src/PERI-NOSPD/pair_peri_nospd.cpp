@@ -742,8 +742,13 @@ void PairPeriNospd::check_history_law()
 
 void PairPeriNospd::ensure_bonds_fix()
 {
-  if (fix_bonds) return;
   auto *f = modify->get_fix_by_id(BONDS_FIX_ID);
+  if (fix_bonds) {
+    if (f == fix_bonds) return;
+    error->all(FLERR, "pair_style {}: fix {} was deleted (unfix): it holds the bond families "
+               "and their state, and lives as long as the pair style (a new pair_style "
+               "command starts new families)", force->pair_style, BONDS_FIX_ID);
+  }
   if (!f) f = modify->add_fix(fmt::format("{} all PERI_NEIGH/NOSPD", BONDS_FIX_ID));
   fix_bonds = dynamic_cast<FixNospdBonds *>(f);
   if (!fix_bonds)

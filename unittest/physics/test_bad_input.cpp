@@ -162,6 +162,23 @@ TEST_F(BadInput, HorizonChangedBetweenRuns)
   EXPECT_THAT(msg, HasSubstr("families are not rebuilt"));
 }
 
+// the bonds fix lives as long as the pair style: unfixing it is an error
+// at the next run (it crashed in the force passes), before or after a run
+TEST_F(BadInput, UnfixBondsFix)
+{
+  for (bool after_run : {false, true}) {
+    delete lmp;
+    lmp = open_lammps();
+    deck();
+    cmd(lmp, "pair_style peri/nospd");
+    cmd(lmp, "pair_coeff * * 200e9 0.3 0.003015");
+    if (after_run) cmd(lmp, "run 0");
+    cmd(lmp, "unfix NOSPD_BONDS");
+    EXPECT_THAT(error_of(lmp, "run 0"),
+                HasSubstr("pair_style peri/nospd: fix NOSPD_BONDS was deleted (unfix)"));
+  }
+}
+
 TEST_F(BadInput, MaterialNotInFile)
 {
   EXPECT_THAT(pair_coeff_error("* * materials.nospd unobtainium 0.003"),
