@@ -35,6 +35,7 @@
 #include "error.h"
 #include "fix_nospd_bonds.h"
 #include "force.h"
+#include "input.h"
 #include "group.h"
 #include "memory.h"
 #include "modify.h"
@@ -330,6 +331,14 @@ void FixNospdDamage::init()
                "families)", cmd);
   bonds = pair->bonds();
   if (!bonds) error->all(FLERR, "{}: the pair style has no bond families yet", cmd);
+  // rerun evaluates forces of stored snapshots without time steps: no
+  // pre_force, so no bond breaks (pre-cracks still apply)
+  const bool rerun = input->command && utils::strmatch(input->command, "^rerun");
+  if (comm->me == 0 && criterion != NONE && rerun && !rerun_warned)
+    error->warning(FLERR, "{} {}: rerun breaks no bonds (it takes no time steps): its energies "
+                   "and forces are those of the body with the bonds intact at the start of the "
+                   "rerun", cmd, id);
+  rerun_warned = rerun;    // once per rerun command (it initializes per snapshot)
   if (criterion == EQPS || criterion == JC_DAMAGE) {
     bool any = false;
     for (int i = 1; i <= atom->ntypes; i++)

@@ -102,6 +102,7 @@ class FixNospdDamage : public Fix {
   bigint nbroken_step;      // bonds broken at the last evaluation
   bigint ncontact;          // pairs in contact at the last force evaluation
   double econtact;          // contact energy of the owned atoms, last evaluation
+  bool rerun_warned = false;    // rerun's warning given
 
   void setup_tables();
   void store_state();

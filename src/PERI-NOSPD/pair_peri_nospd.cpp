@@ -610,6 +610,7 @@ void PairPeriNospd::init_style()
   MPI_Allreduce(&vmin, &vmin_all, 1, MPI_DOUBLE, MPI_MIN, world);
   if (vmin_all < BIG) {
     const double spacing = (dim == 3) ? cbrt(vmin_all) : sqrt(vmin_all / thickness);
+    if (dim == 2) check_one_plane(spacing);
     for (int i = 1; i <= atom->ntypes; i++)
       if (active[i] && cut[i][i] < 0.999 * spacing)
         error->all(FLERR, "{}: horizon {} of type {} is smaller than the point spacing {:.6g} "
@@ -683,6 +684,30 @@ void PairPeriNospd::init_style()
   fix_bonds->vote_pair_order(pair_order_usable());
   // no neighbor list: the families are fixed and live in the fix; the
   // ghost cutoff follows from the pair cutoff (horizon) plus the skin
+}
+
+/* ----------------------------------------------------------------------
+   2D: the bond sums take xi and Y whole, so every point of the body must
+   lie in one plane z = const, in the reference and now (points at mixed z
+   would give bonds an out-of-plane part: energy and z forces at rest)
+------------------------------------------------------------------------- */
+
+void PairPeriNospd::check_one_plane(double spacing)
+{
+  double lo[2] = {BIG, BIG}, hi[2] = {-BIG, -BIG};    // z of x, of x0
+  for (int i = 0; i < atom->nlocal; i++) {
+    if (!active[atom->type[i]]) continue;
+    const double z[2] = {atom->x[i][2], atom->x0[i][2]};
+    for (int k = 0; k < 2; k++) lo[k] = MIN(lo[k], z[k]), hi[k] = MAX(hi[k], z[k]);
+  }
+  double lo_all[2], hi_all[2];
+  MPI_Allreduce(lo, lo_all, 2, MPI_DOUBLE, MPI_MIN, world);
+  MPI_Allreduce(hi, hi_all, 2, MPI_DOUBLE, MPI_MAX, world);
+  for (int k = 0; k < 2; k++)
+    if (hi_all[k] - lo_all[k] > 1.0e-9 * spacing)
+      error->all(FLERR, "pair_style {}: 2D body with points at {} z from {} to {}: all its points "
+                 "must lie in one plane", force->pair_style, k ? "reference (x0)" : "current",
+                 lo_all[k], hi_all[k]);
 }
 
 /* ----------------------------------------------------------------------

@@ -179,6 +179,22 @@ TEST_F(BadInput, UnfixBondsFix)
   }
 }
 
+// 2D: a point off the body's plane would give its bonds an out-of-plane
+// part (energy and z forces at rest): an error naming the z range
+TEST_F(BadInput, TwoDimensionalPointsOffPlane)
+{
+  Block b;
+  b.dim = 2;
+  b.n = 8;
+  make_block(lmp, b);
+  cmd(lmp, "pair_coeff * * 200e9 0.3 " + num(b.delta()));
+  EXPECT_EQ(error_of(lmp, "run 0"), "");
+  cmd(lmp, "set atom 5 z 0.0002");
+  EXPECT_THAT(error_of(lmp, "run 0"),
+              HasSubstr("2D body with points at current z from 0 to 0.0002: all its points must "
+                        "lie in one plane"));
+}
+
 TEST_F(BadInput, MaterialNotInFile)
 {
   EXPECT_THAT(pair_coeff_error("* * materials.nospd unobtainium 0.003"),
