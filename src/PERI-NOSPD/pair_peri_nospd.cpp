@@ -48,6 +48,14 @@ static const char cite_nospd[] =
 static constexpr const char *BONDS_FIX_ID = "NOSPD_BONDS";
 static constexpr double BIG = 1.0e300;
 
+// a law's name as the strain keyword gives it, for messages
+static const char *law_keyword(Law law)
+{
+  static const char *names[] = {"small", "finite", "svk", "neohookean", "hencky", "formula",
+                                "umat", "umat/finite"};
+  return names[static_cast<int>(law)];
+}
+
 /* ---------------------------------------------------------------------- */
 
 PairPeriNospd::PairPeriNospd(LAMMPS *lmp) :
@@ -418,13 +426,11 @@ void PairPeriNospd::check_inelastic(int itype) const
   const auto &fl = flow[itype];
   const auto &th = thermal[itype];
   if (!fl.active && th.alpha == 0.0) return;
-  const char *laws[] = {"small", "finite", "svk", "neohookean", "hencky", "formula", "umat",
-                        "umat/finite"};
   if (strain_law != Law::SMALL && strain_law != Law::HENCKY)
     error->all(FLERR, "pair_style {}: type {} has {} but strain {} has no inelastic form: use "
                "strain small (additive) or strain hencky (multiplicative, finite)",
                force->pair_style, itype, fl.active ? "plasticity" : "thermal expansion",
-               laws[static_cast<int>(strain_law)]);
+               law_keyword(strain_law));
   if (fl.Hkin > 0.0 && strain_law != Law::SMALL)
     error->all(FLERR, "pair_style {}: type {}: kinematic hardening is implemented for strain "
                "small only, not strain hencky", force->pair_style, itype);
@@ -741,12 +747,10 @@ void PairPeriNospd::check_history_law()
       for (int k = 0; k < n && !carries[t]; k++) carries[t] = (h[i][k] != 0.0);
     }
     MPI_Allreduce(carries.data(), carries_all.data(), ntypes + 1, MPI_INT, MPI_MAX, world);
-    static const char *names[] = {"small", "finite", "svk", "neohookean", "hencky",
-                                  "formula", "umat", "umat finite"};
     auto law_name = [&](int code) -> std::string {
       if (!code) return "an elastic law";
       if (code >= umat_code) return "a UMAT";
-      return fmt::format("plasticity under strain {}", names[code - 1]);
+      return fmt::format("plasticity under strain {}", law_keyword(static_cast<Law>(code - 1)));
     };
     for (int t = 1; t <= ntypes; t++)
       if (carries_all[t])
