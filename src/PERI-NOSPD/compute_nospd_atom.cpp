@@ -81,6 +81,17 @@ ComputeNospdAtom::~ComputeNospdAtom()
 
 void ComputeNospdAtom::init()
 {
+  find_pair();
+}
+
+/* ----------------------------------------------------------------------
+   the pair style is looked up at every invocation, not only at init: a
+   pair_style command between runs replaces it, and output (write_dump,
+   Python's extract_compute) may ask before the next init
+------------------------------------------------------------------------- */
+
+void ComputeNospdAtom::find_pair()
+{
   pair = PairPeriNospd::find(force);
   if (!pair) error->all(FLERR, "compute {} requires a peri/nospd pair style", style);
 }
@@ -97,14 +108,19 @@ void ComputeNospdAtom::compute_peratom()
     array_atom = out;
   }
 
+  find_pair();
   FixNospdBonds *bonds = pair->bonds();
   const int nlocal = atom->nlocal;
   const int *mask = atom->mask;
-  const bool ready = bonds && bonds->bond_first && bonds->nbond_atoms == nlocal;
+  const int *type = atom->type;
+  // the per-atom state travels with the atoms; the bond arrays (zem) are
+  // those of the last rebuild, stale once atoms were added or deleted
+  const bool ready = bonds && bonds->bond_first;
+  const bool bonds_current = ready && bonds->bond_arrays_current();
 
   for (int i = 0; i < nlocal; i++) {
     double *row = out[i];
-    if (!(mask[i] & groupbit) || !ready) {
+    if (!(mask[i] & groupbit) || !ready || !pair->owns_type(type[i])) {
       for (int k = 0; k < size_peratom_cols; k++) row[k] = 0.0;
       continue;
     }
@@ -132,7 +148,7 @@ void ComputeNospdAtom::compute_peratom()
           break;
         case VONMISES: row[c++] = NOSPD::von_mises(sigma); break;
         case ENERGY: row[c++] = bonds->energy_density[i]; break;
-        case ZEM: row[c++] = zem_indicator(i); break;
+        case ZEM: row[c++] = bonds_current ? zem_indicator(i) : 0.0; break;
         case SINGULAR: row[c++] = bonds->singular[i]; break;
         default: c = history_columns(i, q, row, c); break;
       }

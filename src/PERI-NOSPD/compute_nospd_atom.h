@@ -43,6 +43,7 @@ class ComputeNospdAtom : public Compute {
   double **out;
   class PairPeriNospd *pair;
 
+  void find_pair();
   double zem_indicator(int i) const;
   int history_columns(int i, int q, double *row, int c) const;
 };

@@ -66,6 +66,16 @@ ComputeNospdBondLocal::~ComputeNospdBondLocal()
 
 void ComputeNospdBondLocal::init()
 {
+  find_pair();
+}
+
+/* ----------------------------------------------------------------------
+   looked up at every invocation: a pair_style command between runs
+   replaces the pair style, and output may ask before the next init
+------------------------------------------------------------------------- */
+
+void ComputeNospdBondLocal::find_pair()
+{
   pair = PairPeriNospd::find(force);
   if (!pair) error->all(FLERR, "compute {} requires a peri/nospd or peri/nospd/hs pair style", style);
   pair_hs = dynamic_cast<PairPeriNospdHS *>(pair);
@@ -75,8 +85,11 @@ void ComputeNospdBondLocal::init()
 
 int ComputeNospdBondLocal::count_rows()
 {
+  find_pair();
   FixNospdBonds *bonds = pair->bonds();
-  if (!bonds || !bonds->bond_first || bonds->nbond_atoms != atom->nlocal) return 0;
+  // no rows before the first run, nor after atoms were added or deleted
+  // since (the bond arrays are rebuilt at the next run's setup)
+  if (!bonds || !bonds->bond_arrays_current()) return 0;
   int n = 0;
   for (int i = 0; i < atom->nlocal; i++)
     if (atom->mask[i] & groupbit) n += bonds->bond_first[i + 1] - bonds->bond_first[i];

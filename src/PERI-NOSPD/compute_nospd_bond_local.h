@@ -44,6 +44,7 @@ class ComputeNospdBondLocal : public Compute {
   class PairPeriNospd *pair;
   class PairPeriNospdHS *pair_hs;
 
+  void find_pair();
   int count_rows();
 };
 

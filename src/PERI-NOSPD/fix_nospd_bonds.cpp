@@ -1237,12 +1237,20 @@ void FixNospdBonds::grow_arrays(int nmax)
   }
 }
 
+/* ---------------------------------------------------------------------- */
+
+bool FixNospdBonds::bond_arrays_current() const
+{
+  return bond_first && nbond_atoms == atom->nlocal;
+}
+
 /* ----------------------------------------------------------------------
    an atom created after the fix: virgin material
 ------------------------------------------------------------------------- */
 
 void FixNospdBonds::set_arrays(int i)
 {
+  nbond_atoms = -1;    // local indices have changed: the bond arrays until the next rebuild
   clear_atom(i);    // own_tag 0: IDs of new atoms are set after this call, adopted at setup
 }
 
@@ -1250,6 +1258,7 @@ void FixNospdBonds::set_arrays(int i)
 
 void FixNospdBonds::copy_arrays(int i, int j, int /*delflag*/)
 {
+  nbond_atoms = -1;    // local indices have changed: the bond arrays until the next rebuild
   npartner[j] = npartner[i];
   for (int m = 0; m < npartner[j]; m++) partner[j][m] = partner[i][m];
   vinter[j] = vinter[i];

@@ -142,7 +142,9 @@ class FixNospdBonds : public FixPeriNeigh {
   std::vector<int> history_law;
 
   // ---- state read by pair styles, computes and the damage fix ----
-  int nbond_atoms;        // owned atoms covered by the CSR arrays
+  int nbond_atoms;        // owned atoms covered by the CSR arrays (-1: atoms
+                          // moved, added or deleted since they were built)
+  bool bond_arrays_current() const;
   int bond_version;       // incremented whenever the CSR arrays are rebuilt
   int *bond_first;        // [nlocal+1] offsets into bond_j/bond_w
   int *bond_j;            // local index of the partner (closest image)

@@ -315,6 +315,58 @@ TEST_F(BadInput, ComputeWithoutNospdPairStyle)
   EXPECT_THAT(error_of(lmp, "run 0"), HasSubstr("requires a peri/nospd pair style"));
 }
 
+// output asked for before the first run (Python's extract_compute, a
+// variable): the computes have no state to read yet and give zeros, no rows
+TEST_F(BadInput, ComputesBeforeFirstRunGiveZeros)
+{
+  error_after_steel("compute a all nospd/atom F stress zem");
+  cmd(lmp, "compute b all nospd/bond/local id F");
+  auto *a = lmp->modify->get_compute_by_id("a");
+  auto *b = lmp->modify->get_compute_by_id("b");
+  a->compute_peratom();
+  b->compute_local();
+  double largest = 0.0;
+  for (int i = 0; i < lmp->atom->nlocal; i++)
+    for (int k = 0; k < a->size_peratom_cols; k++)
+      largest = std::max(largest, std::abs(a->array_atom[i][k]));
+  EXPECT_EQ(largest, 0.0);
+  EXPECT_EQ(b->size_local_rows, 0);
+}
+
+// a pair_style command between runs replaces the pair style the computes
+// read: the next invocation finds the new one or stops, never reads the old
+TEST_F(BadInput, ComputesAfterPairStyleChange)
+{
+  error_after_steel("compute a all nospd/atom F");
+  cmd(lmp, "compute b all nospd/bond/local id");
+  cmd(lmp, "run 0");
+  auto *a = lmp->modify->get_compute_by_id("a");
+  auto *b = lmp->modify->get_compute_by_id("b");
+  auto error_of_call = [](auto &&call) -> std::string {
+    try {
+      call();
+    } catch (LAMMPS_NS::LAMMPSException &e) {
+      return e.what();
+    }
+    return "";
+  };
+  // another PERI-NOSPD style: its state, none before its first run
+  cmd(lmp, "pair_style peri/nospd/hs");
+  cmd(lmp, "pair_coeff * * 200e9 0.3 0.003");
+  EXPECT_EQ(error_of_call([&] { b->compute_local(); }), "");
+  EXPECT_EQ(b->size_local_rows, 0);
+  cmd(lmp, "run 0");
+  b->compute_local();
+  EXPECT_GT(b->size_local_rows, 0);
+  // a style of another kind
+  cmd(lmp, "pair_style lj/cut 0.003");
+  cmd(lmp, "pair_coeff * * 1 0.001");
+  EXPECT_THAT(error_of_call([&] { a->compute_peratom(); }),
+              HasSubstr("requires a peri/nospd pair style"));
+  EXPECT_THAT(error_of_call([&] { b->compute_local(); }),
+              HasSubstr("requires a peri/nospd or peri/nospd/hs pair style"));
+}
+
 TEST_F(BadInput, DamageFixWithoutCriterion)
 {
   EXPECT_THAT(error_after_steel("fix d all nospd/damage"),
