@@ -51,7 +51,7 @@ FixNospdBonds::FixNospdBonds(LAMMPS *lmp, int narg, char **arg) :
   global_freq = 1;
   extvector = 0;
   maxexchange_dynamic = 1;
-  ref_prd[0] = ref_prd[1] = ref_prd[2] = 0.0;
+  for (int k = 0; k < 6; k++) ref_h[k] = last_h[k] = 0.0;
 
   FixNospdBonds::grow_arrays(atom->nmax);
   const int nlocal = atom->nlocal;
@@ -145,6 +145,7 @@ void FixNospdBonds::setup_post_neighbor()
     follow_renumbered_tags();
   }
   check_horizons();
+  check_periodicity(built_now);
   // also after a restart, where build_families() does not run
   maxexchange = maxpartner + 22 + nhistory;
   // the votes of the last init (a run with "pre no" may set up without one)
@@ -185,6 +186,29 @@ void FixNospdBonds::check_horizons()
                    "families were built at the first run: families are not rebuilt; keep the "
                    "horizon, or start over with new atoms", i, j, now, built);
     }
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixNospdBonds::check_periodicity(bool built_now)
+{
+  const int now = domain->xperiodic | (domain->yperiodic << 1) | (domain->zperiodic << 2);
+  if (built_now || built_periodic < 0) {
+    built_periodic = now;
+    return;
+  }
+  if (now == built_periodic) return;
+  auto names = [](int bits) {
+    std::string s;
+    for (int k = 0; k < 3; k++)
+      if (bits & (1 << k)) s += std::string(s.empty() ? "" : " ") + "xyz"[k];
+    return s.empty() ? std::string("none") : s;
+  };
+  error->all(FLERR, "Fix {}: the box is periodic in {} but was periodic in {} when the bond "
+             "families were built: families are not rebuilt (bonds across a boundary that is "
+             "no longer periodic would span the box, faces made periodic would stay unbonded); "
+             "set the boundary (change_box ... boundary) before the first run",
+             id, names(now), names(built_periodic));
 }
 
 /* ---------------------------------------------------------------------- */
@@ -235,10 +259,7 @@ void FixNospdBonds::update_x0s()
     x0s = atom->x0;
     return;
   }
-  if (!ref_box_set) {
-    for (int k = 0; k < 3; k++) ref_prd[k] = domain->prd[k];
-    ref_box_set = 1;
-  }
+  follow_box();
   // one row more than the atoms: the bond sums read a double past the last
   if (nall + 1 > nmax_x0s) {
     nmax_x0s = std::max(atom->nmax, nall + 1);
@@ -248,39 +269,80 @@ void FixNospdBonds::update_x0s()
   x0s_store[nall][0] = x0s_store[nall][1] = x0s_store[nall][2] = 0.0;
   double **x = atom->x;
   double **x0 = atom->x0;
-  const double *prd = domain->prd;
-  const bool ortho = !domain->triclinic;
+  const double *h = domain->h, *r = ref_h;
   for (int i = 0; i < nall; i++) {
     const double d0[3] = {x[i][0] - x0[i][0], x[i][1] - x0[i][1], x[i][2] - x0[i][2]};
     double d[3] = {d0[0], d0[1], d0[2]};
     domain->minimum_image(FLERR, d);
-    for (int k = 0; k < 3; k++) {
-      const double shift = d0[k] - d[k];    // whole current box lengths
-      // triclinic boxes: images follow the current box (see the doc page)
-      x0s_store[i][k] = (ortho && prd[k] > 0.0)
-          ? x0[i][k] + std::round(shift / prd[k]) * ref_prd[k]
-          : x[i][k] - d[k];
-    }
+    // shift = n0 a + n1 b + n2 c, the current box vectors (upper triangular)
+    const double s0 = d0[0] - d[0], s1 = d0[1] - d[1], s2 = d0[2] - d[2];
+    const double n2 = std::round(s2 / h[2]);
+    const double n1 = std::round((s1 - n2 * h[3]) / h[1]);
+    const double n0 = std::round((s0 - n1 * h[5] - n2 * h[4]) / h[0]);
+    x0s_store[i][0] = x0[i][0] + (n0 * r[0] + n1 * r[5] + n2 * r[4]);
+    x0s_store[i][1] = x0[i][1] + (n1 * r[1] + n2 * r[3]);
+    x0s_store[i][2] = x0[i][2] + n2 * r[2];
   }
   x0s = x0s_store;
 }
 
+/* ----------------------------------------------------------------------
+   the reference box follows the basis of the current one: a triclinic box
+   that fix deform or change_box flips (xy -> xy - lx, ...) expresses the
+   same periodic lattice with new vectors h' = h M, M an integer matrix;
+   applied to the reference box, the same M keeps every image's reference
+   offset.  Called at every reneighboring and, for triclinic boxes, every
+   step (post_integrate), so that between two calls the box deforms by far
+   less than half a period and M is h_last^-1 h_now rounded.
+------------------------------------------------------------------------- */
+
+void FixNospdBonds::follow_box()
+{
+  auto matrix = [](const double *v) {
+    NOSPD::Mat3 m;
+    m << v[0], v[5], v[4], 0.0, v[1], v[3], 0.0, 0.0, v[2];
+    return m;
+  };
+  const double *h = domain->h;
+  if (!ref_box_set) {
+    for (int k = 0; k < 6; k++) ref_h[k] = last_h[k] = h[k];
+    ref_box_set = 1;
+    return;
+  }
+  const NOSPD::Mat3 M = (matrix(last_h).inverse() * matrix(h)).array().round().matrix();
+  if (!M.isIdentity(0.0)) {
+    const NOSPD::Mat3 R = matrix(ref_h) * M;
+    const double r[6] = {R(0, 0), R(1, 1), R(2, 2), R(1, 2), R(0, 2), R(0, 1)};
+    for (int k = 0; k < 6; k++) ref_h[k] = r[k];
+  }
+  for (int k = 0; k < 6; k++) last_h[k] = h[k];
+}
+
 static constexpr int RESTART_V2 = 10;
+static constexpr int RESTART_V3 = 20;
 static constexpr double BIG = 1.0e300;
 
 /* ----------------------------------------------------------------------
-   global restart data: FixPeriNeigh's two values and the reference box
+   global restart data: FixPeriNeigh's two values, the reference box, and
+   what the families were built with (periodicity, the writer's pair style,
+   the horizons, the laws whose state the history holds), so that a restart
+   is checked against a changed input as a continued session is
 ------------------------------------------------------------------------- */
 
 void FixNospdBonds::write_restart(FILE *fp)
 {
-  // list[0] is `first` plus RESTART_V2 (older files hold six values)
-  double list[7] = {(double) (first + RESTART_V2), (double) maxpartner, (double) ref_box_set,
-                    ref_prd[0], ref_prd[1], ref_prd[2], (double) nbonds_vanished};
+  // list[0] is `first` plus RESTART_V3 (V2 files hold seven values, older six)
+  std::vector<double> list = {(double) (first + RESTART_V3), (double) maxpartner,
+                              (double) ref_box_set, ref_h[0], ref_h[1], ref_h[2],
+                              (double) nbonds_vanished, ref_h[3], ref_h[4], ref_h[5],
+                              (double) built_periodic, (double) style_kind,
+                              (double) family_horizon.size(), (double) history_law.size()};
+  list.insert(list.end(), family_horizon.begin(), family_horizon.end());
+  list.insert(list.end(), history_law.begin(), history_law.end());
   if (comm->me == 0) {
-    int size = 7 * sizeof(double);
+    int size = list.size() * sizeof(double);
     fwrite(&size, sizeof(int), 1, fp);
-    fwrite(list, sizeof(double), 7, fp);
+    fwrite(list.data(), sizeof(double), list.size(), fp);
   }
 }
 
@@ -294,10 +356,57 @@ void FixNospdBonds::restart(char *buf)
   if (head >= RESTART_V2) nbonds_vanished = static_cast<bigint>(list[6]);
   maxpartner = static_cast<int>(list[1]);
   ref_box_set = static_cast<int>(list[2]);
-  for (int k = 0; k < 3; k++) ref_prd[k] = list[3 + k];
+  for (int k = 0; k < 3; k++) ref_h[k] = list[3 + k];
+  // older files: the reference tilts are unknown, take the box's
+  for (int k = 3; k < 6; k++) ref_h[k] = domain->h[k];
+  for (int k = 0; k < 6; k++) last_h[k] = domain->h[k];
+  if (head >= RESTART_V3) {
+    for (int k = 3; k < 6; k++) ref_h[k] = list[4 + k];
+    built_periodic = static_cast<int>(list[10]);
+    restart_kind = static_cast<int>(list[11]);
+    const int nh = static_cast<int>(list[12]), nl = static_cast<int>(list[13]);
+    family_horizon.assign(list + 14, list + 14 + nh);
+    history_law.assign(list + 14 + nh, list + 14 + nh + nl);
+  }
   if (nhist_bond) layout_history(nhist_atom, nhist_bond);
   // partner arrays are 2D: size them now, before the per-atom data arrive
   grow_arrays(atom->nmax);
+}
+
+/* ---------------------------------------------------------------------- */
+
+static const char *style_of_kind(int kind)
+{
+  return kind == 2 ? "peri/nospd/hs" : "peri/nospd";
+}
+
+void FixNospdBonds::adopt_style(int kind)
+{
+  if (restart_kind && restart_kind != kind) {
+    if (comm->me == 0)
+      error->warning(FLERR, "Fix {}: the restart file's bond families and state were written "
+                     "under pair_style {}; pair_style {} builds new ones at the next run, as a "
+                     "pair_style command between runs does (broken bonds and inelastic history "
+                     "are not carried over)", id, style_of_kind(restart_kind), style_of_kind(kind));
+    start_over();
+  }
+  restart_kind = 0;
+  style_kind = kind;
+}
+
+/* ----------------------------------------------------------------------
+   forget the families and the state: the next setup builds them anew
+------------------------------------------------------------------------- */
+
+void FixNospdBonds::start_over()
+{
+  for (int i = 0; i < atom->nlocal; i++) clear_atom(i);
+  first = 1;
+  nbonds_vanished = 0;
+  ref_box_set = 0;
+  built_periodic = -1;
+  family_horizon.clear();
+  history_law.clear();
 }
 
 /* ---------------------------------------------------------------------- */
@@ -316,6 +425,8 @@ double FixNospdBonds::weight(double r, double delta) const
 
 void FixNospdBonds::build_families()
 {
+  static bigint serial_source = 0;
+  families_serial = ++serial_source;
   neighbor->build_one(list);
   const int inum = list->inum;
   int *ilist = list->ilist;
@@ -602,6 +713,7 @@ void FixNospdBonds::report_stable_timestep()
 
 void FixNospdBonds::post_integrate()
 {
+  if (ref_box_set && domain->triclinic) follow_box();    // before a flip at this step's exchange
   const int nlocal = atom->nlocal;
   if (nbond_atoms != nlocal) return;    // the bond arrays are being rebuilt
   double **x = atom->x, **v = atom->v;

@@ -76,6 +76,12 @@ class FixNospdBonds : public FixPeriNeigh {
   int maxsize_restart() override;
 
   void set_model(const NospdBondModel &m) { model = m; }
+  // called by the owning pair style at each init: 1 classical (peri/nospd),
+  // 2 bond-associated (peri/nospd/hs).  Families and state from a restart
+  // written under the other style are dropped, as a pair_style command
+  // between runs drops them.
+  void adopt_style(int kind);
+  bigint families_serial = 0;    // changes whenever families are built anew
   // the likely cause of an instability, for error messages ("" if unknown)
   std::string unstable_cause() const;
   // the stable time step estimate of a type at the last run setup (0: none)
@@ -186,8 +192,17 @@ class FixNospdBonds : public FixPeriNeigh {
   int unpack_history(int i, const double *buf, int n_atom, int n_bond);
   double **x0s_store;    // x0s when the box is periodic (else x0s = atom->x0)
   std::vector<double> x_padded, x0_padded;    // padded_positions()' copies, when needed
-  int ref_box_set;       // ref_prd holds the box of the first build
-  double ref_prd[3];     // periodic lengths of the reference configuration
+  int ref_box_set;       // ref_h holds the box of the first build
+  // the reference box (lengths and tilts as domain->h: xprd yprd zprd yz xz
+  // xy) in the basis of the current box, and the box when last seen (a
+  // flip of a triclinic box changes the basis of both)
+  double ref_h[6], last_h[6];
+  void follow_box();
+  int built_periodic = -1;    // periodic dimensions (bits x y z) at the first build
+  void check_periodicity(bool built_now);
+  int style_kind = 0;      // the owning pair style's family_kind()
+  int restart_kind = 0;    // that of the restart file's writer (0: none)
+  void start_over();
 
   void build_families();
   void clear_atom(int i);

@@ -672,6 +672,7 @@ void PairPeriNospd::init_style()
   }
 
   ensure_bonds_fix();
+  fix_bonds->adopt_style(family_kind());
   if (history_size) fix_bonds->set_history_size(history_size);
   check_history_law();
   NospdBondModel model;

@@ -157,6 +157,8 @@ class PairPeriNospd : public Pair {
   // order, which this style asks for where it can use it: the hourglass on
   // one thread (the /omp styles split the passes by atoms; the
   // bond-associated style's patterns follow the partner order)
+  // which families and state the bonds fix holds: 1 classical, 2 bond-associated
+  virtual int family_kind() const { return 1; }
   virtual bool pair_order_usable() const { return stab == NOSPD::Stab::HOURGLASS; }
   template <int VIRIAL> void hourglass_pair_pass();
   std::vector<double> inv_volume;    // 1 / V of owned atoms, for the pairs pass

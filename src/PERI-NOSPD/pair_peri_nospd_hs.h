@@ -67,6 +67,7 @@ class PairPeriNospdHS : public PairPeriNospd {
  protected:
   // the patterns and stencils follow each family's partner order
   bool pair_order_usable() const override { return false; }
+  int family_kind() const override { return 2; }
   NOSPD::HSForm hs_form;
   double hs_ratio;
 

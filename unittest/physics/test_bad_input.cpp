@@ -367,6 +367,19 @@ TEST_F(BadInput, ComputesAfterPairStyleChange)
               HasSubstr("requires a peri/nospd or peri/nospd/hs pair style"));
 }
 
+// families are built once: a boundary made periodic or non-periodic after
+// them would leave bonds spanning the box or faces unbonded
+TEST_F(BadInput, BoundaryChangedAfterFamilies)
+{
+  error_after_steel("run 0");
+  cmd(lmp, "change_box all boundary p s s");
+  EXPECT_THAT(error_of(lmp, "run 0"),
+              HasSubstr("the box is periodic in x but was periodic in none when the bond "
+                        "families were built"));
+  cmd(lmp, "change_box all boundary s s s");
+  EXPECT_EQ(error_of(lmp, "run 0"), "");
+}
+
 TEST_F(BadInput, DamageFixWithoutCriterion)
 {
   EXPECT_THAT(error_after_steel("fix d all nospd/damage"),

@@ -685,6 +685,47 @@ TEST_F(InelasticBadInput, PlasticStateKeepsItsLaw)
   EXPECT_THAT(error_of(lmp, "run 0"), HasSubstr("which plasticity under strain hencky would not"));
 }
 
+// A restart holds what the families were built with: the same changes of
+// law or horizon that a continued session refuses are refused after
+// read_restart, and a restart read under the other pair style starts new
+// families, as a pair_style command between runs does.
+TEST_F(InelasticBadInput, RestartKeepsTheChecksOfAContinuedSession)
+{
+  const std::string rfile = "nospd_law_check.restart";
+  Block b;
+  b.n = 5;
+  b.settings = "strain small";
+  make_block(lmp, b);
+  const std::string elastic = "pair_coeff * * 200e9 0.3 0.003";
+  cmd(lmp, elastic + " yield 1e8");
+  cmd(lmp, "run 0");
+  cmd(lmp, "change_box all x scale 1.01 remap units box");
+  cmd(lmp, "run 1");
+  auto plastic_work = [&] {
+    return lmp->modify->get_fix_by_id("NOSPD_BONDS")->compute_vector(3);
+  };
+  const double work = plastic_work();
+  ASSERT_GT(work, 0.0);
+  cmd(lmp, "write_restart " + rfile);
+  auto restart_then = [&](const std::vector<std::string> &lines) {
+    delete lmp;
+    lmp = open_lammps();
+    cmd(lmp, "read_restart " + rfile);
+    for (const auto &l : lines) cmd(lmp, l);
+    return error_of(lmp, "run 0");
+  };
+  EXPECT_EQ(restart_then({elastic + " yield 1e8"}), "");
+  EXPECT_DOUBLE_EQ(plastic_work(), work);
+  EXPECT_THAT(restart_then({elastic}), HasSubstr("which an elastic law would not read"));
+  EXPECT_THAT(restart_then({"pair_style peri/nospd strain hencky", elastic + " yield 1e8"}),
+              HasSubstr("which plasticity under strain hencky would not"));
+  EXPECT_THAT(restart_then({"pair_coeff * * 200e9 0.3 0.004 yield 1e8"}),
+              HasSubstr("horizon 0.004 differs from 0.003"));
+  EXPECT_EQ(restart_then({"pair_style peri/nospd/hs strain small", elastic + " yield 1e8"}), "");
+  EXPECT_EQ(plastic_work(), 0.0);
+  std::remove(rfile.c_str());
+}
+
 TEST_F(InelasticBadInput, LawChangeWithoutPlasticStateAllowed)
 {
   Block b;
