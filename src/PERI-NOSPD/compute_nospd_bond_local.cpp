@@ -112,6 +112,7 @@ void ComputeNospdBondLocal::compute_local()
   if (!nrows) return;
 
   FixNospdBonds *bonds = pair->bonds();
+  const bool plane_stress = pair->plane() == NOSPD::Plane::STRESS;
   double **x = atom->x;
   double **x0s = bonds->x0s;
   const int *type = atom->type;
@@ -126,6 +127,11 @@ void ComputeNospdBondLocal::compute_local()
       if (!pair_hs || own < 0) {
         for (int k = 0; k < 9; k++) Fb[k] = bonds->defgrad[i][k];
         own = 0;
+      }
+      if (own && plane_stress && bonds->singular[i] == 0) {
+        // the bond's out-of-plane stretch is solved by its law, with its stress
+        Mat3 F = NOSPD::load(Fb), s;
+        if (bond_stress(i, b, own, F, s)) Fb[8] = F(2, 2);
       }
       double *r = out[row++];
       int c = 0;

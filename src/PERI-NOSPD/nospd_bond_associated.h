@@ -738,6 +738,7 @@ bool evaluate_families(const BondPattern &p, HSForm form, Law law, Plane plane,
   // straight into the work rows of the second sum
   double cs_force = 0.0, cs_beta = 0.0;
   double hmean[NC][L] = {};    // linear law: sum_j beta_j H_j
+  double f33[L] = {};          // other laws: sum_j beta_j F_j,zz (2D: solved in plane stress)
   simd::v4 hm[3] = {};          // its rows, for the 3D one-lane linear bonds
   for (int j = 0; j < n; ++j) {
     double g[NC][L];
@@ -791,6 +792,7 @@ bool evaluate_families(const BondPattern &p, HSForm form, Law law, Plane plane,
           }
           out[l].P += p.beta[j] * P;
           out[l].W += p.beta[j] * W;
+          f33[l] += p.beta[j] * F(2, 2);
           for (int a = 0; a < DIM; ++a)
             for (int c = 0; c < DIM; ++c) pb[a * DIM + c][l] = P(a, c);
         }
@@ -833,6 +835,7 @@ bool evaluate_families(const BondPattern &p, HSForm form, Law law, Plane plane,
         for (int c = 0; c < NC; ++c) hmean[c][l] += cs_beta * hfam[c][l];
       else
         out[l].P += cs_beta * P;
+      f33[l] += cs_beta * F(2, 2);
       out[l].W += cs_beta * W;
       double pl[NC], gl[NC];
       block_of<DIM>(P, pl);
@@ -848,7 +851,12 @@ bool evaluate_families(const BondPattern &p, HSForm form, Law law, Plane plane,
       Mat3 F = identity_plus<DIM>(hl);
       double W;
       first_piola(law, plane, *in[l].m, F, out[l].P, W);
+      f33[l] = F(2, 2);
     }
+  // 2D output: the out-of-plane stretch is the bonds' mean, as the stress
+  // is (the family's F has none of its own in plane stress)
+  if constexpr (DIM == 2)
+    for (int l = 0; l < L; ++l) out[l].F(2, 2) = f33[l];
 
   // Gbar_k: Form II sums G over the bond-associated family of k
   if (form == HSForm::II) bond_sums<DIM, L>(p, s, sums);

@@ -1377,6 +1377,8 @@ void PairPeriNospdHS::store_stencil_state(int i, const NOSPD::Stencil &st, const
   double W;
   NOSPD::first_piola(strain_law, plane_mode, lame[itype], Fbar, P, W);
   if (st.family_fallback) NOSPD::first_piola(strain_law, plane_mode, lame[itype], F, Pf, W);
+  // plane stress: the bonds' mean out-of-plane stretch, as the family path
+  if (plane_mode == NOSPD::Plane::STRESS) F(2, 2) = Fbar(2, 2);
   NOSPD::store(F, fix_bonds->defgrad[i]);
   NOSPD::store(P, fix_bonds->pk1[i]);
 }

@@ -498,6 +498,42 @@ TEST_F(HSDeck, Restart)
   EXPECT_NEAR(lmp->force->pair->eng_vdwl, e0, 1e-12 * std::abs(e0));
 }
 
+/* Plane stress: F_zz of compute nospd/atom (the bonds' mean) and of each
+   bond in compute nospd/bond/local is the stretch the law solves,
+   1 - nu/(1 - nu) (e_xx + e_yy) under strain small, on the stencil and
+   the family path (surfaces) alike. */
+TEST_F(HSDeck, PlaneStressOutOfPlaneStretch)
+{
+  for (const char *stencil : {"yes", "no"}) {
+    delete lmp;
+    lmp = open_lammps();
+    Block b;
+    b.dim = 2;
+    b.n = 14;
+    b.style = "peri/nospd/hs";
+    b.settings = std::string("strain small plane stress stencil ") + stencil;
+    make_block(lmp, b);
+    cmd(lmp, "compute a all nospd/atom F");
+    cmd(lmp, "compute b all nospd/bond/local F");
+    cmd(lmp, "run 0");
+    cmd(lmp, "variable ux atom 0.001*x");
+    cmd(lmp, "variable uy atom -0.0005*y");
+    cmd(lmp, "displace_atoms all move v_ux v_uy 0 units box");
+    cmd(lmp, "run 0");
+    const double f33 = 1.0 - b.nu / (1.0 - b.nu) * (0.001 - 0.0005);
+    auto *a = lmp->modify->get_compute_by_id("a");
+    auto *c = lmp->modify->get_compute_by_id("b");
+    a->compute_peratom();
+    c->compute_local();
+    ASSERT_GT(c->size_local_rows, 0);
+    double da = 0.0, db = 0.0;
+    for (int i = 0; i < lmp->atom->nlocal; i++) da = std::max(da, std::abs(a->array_atom[i][8] - f33));
+    for (int r = 0; r < c->size_local_rows; r++) db = std::max(db, std::abs(c->array_local[r][8] - f33));
+    EXPECT_LT(da, 1e-12) << "stencil " << stencil;
+    EXPECT_LT(db, 1e-12) << "stencil " << stencil;
+  }
+}
+
 /* Singular bond-associated families (small ratio, corners) fall back to the
    family's F: counted, and the patch test still holds there. */
 TEST_F(HSDeck, SingularFallback)
