@@ -40,7 +40,7 @@ FixNospdBonds::FixNospdBonds(LAMMPS *lmp, int narg, char **arg) :
     bond_slot(nullptr), bond_w(nullptr), bond_pair(nullptr), bond_ghost(nullptr), x0s(nullptr), kinv(nullptr), xi_moment(nullptr), u_moment(nullptr), family_size(nullptr), singular(nullptr),
     defgrad(nullptr), pk1(nullptr), energy_density(nullptr), nsingular(0), nbonds_total(0),
     nbonds_broken(0), nbonds_vanished(0), nmax_bonds(0), nmax_first(0), nmax_x0s(0), stale(nullptr),
-    all_stale(true), trial_ready(0), x0s_store(nullptr), ref_box_set(0), own_tag(nullptr)
+    all_stale(true), trial_ready(0), x0s_store(nullptr), ref_box_set(0), own_tag(nullptr), family_type(nullptr)
 {
   nhistory = nhist_atom = nhist_bond = hist_slots = 0;
   history = history_trial = nullptr;
@@ -58,6 +58,7 @@ FixNospdBonds::FixNospdBonds(LAMMPS *lmp, int narg, char **arg) :
   for (int i = 0; i < nlocal; i++) {
     clear_atom(i);
     own_tag[i] = atom->tag[i];
+    family_type[i] = 0;
   }
 }
 
@@ -78,6 +79,7 @@ void FixNospdBonds::clear_atom(int i)
   for (int k = 0; k < 3; k++) xi_moment[i][k] = u_moment[i][k] = 0.0;
   energy_density[i] = 0.0;
   own_tag[i] = 0;
+  family_type[i] = 0;
   for (int k = 0; k < nhistory; k++) history[i][k] = history_trial[i][k] = 0.0;
 }
 
@@ -102,6 +104,7 @@ FixNospdBonds::~FixNospdBonds()
   memory->destroy(pk1);
   memory->destroy(energy_density);
   memory->destroy(own_tag);
+  memory->destroy(family_type);
   memory->destroy(history);
   memory->destroy(history_trial);
 }
@@ -145,6 +148,7 @@ void FixNospdBonds::setup_post_neighbor()
     follow_renumbered_tags();
   }
   check_horizons();
+  if (!built_now) check_family_types();
   check_periodicity(built_now);
   // also after a restart, where build_families() does not run
   maxexchange = maxpartner + 22 + nhistory;
@@ -186,6 +190,44 @@ void FixNospdBonds::check_horizons()
                    "families were built at the first run: families are not rebuilt; keep the "
                    "horizon, or start over with new atoms", i, j, now, built);
     }
+}
+
+/* ---------------------------------------------------------------------- */
+
+/* ----------------------------------------------------------------------
+   an atom whose type changed since its family was built (set type) takes
+   the new type's material; its family keeps the old type's horizon, which
+   must then be the new one's
+------------------------------------------------------------------------- */
+
+void FixNospdBonds::check_family_types()
+{
+  const int n = atom->ntypes;
+  const int *type = atom->type;
+  const int *active = model.active;
+  double **horizon = model.horizon;
+  // the lowest such atom ID on every rank, for one message on all
+  bigint first_bad = MAXBIGINT;
+  int info[2] = {0, 0}, info_all[2];
+  for (int i = 0; i < atom->nlocal; i++) {
+    const int was = family_type[i], now = type[i];
+    if (was <= 0 || was > n || was == now || atom->tag[i] >= first_bad) continue;
+    for (int t = 1; t <= n; t++)
+      if ((!active || (active[t] && active[was] && active[now])) &&
+          std::abs(horizon[now][t] - horizon[was][t]) > 1.0e-12 * horizon[was][t]) {
+        first_bad = atom->tag[i];
+        info[0] = now, info[1] = was;
+        break;
+      }
+  }
+  bigint first_all;
+  MPI_Allreduce(&first_bad, &first_all, 1, MPI_LMP_BIGINT, MPI_MIN, world);
+  if (first_all == MAXBIGINT) return;
+  if (first_bad != first_all) info[0] = info[1] = 0;
+  MPI_Allreduce(info, info_all, 2, MPI_INT, MPI_MAX, world);
+  error->all(FLERR, "Fix {}: atom {} has type {} but its family was built as type {}, whose "
+             "horizons differ: families are not rebuilt; set the type before the first run, or "
+             "give both types the same horizons", id, first_all, info_all[0], info_all[1]);
 }
 
 /* ---------------------------------------------------------------------- */
@@ -489,6 +531,7 @@ void FixNospdBonds::build_families()
   for (int i = 0; i < nlocal; i++) {
     npartner[i] = family_size[i] = (int) fam[i].size();
     own_tag[i] = tag[i];
+    family_type[i] = type[i];
     vinter[i] = 0.0;
     wvolume[i] = 0.0;
     for (int n = 0; n < npartner[i]; n++) {
@@ -773,7 +816,7 @@ std::string FixNospdBonds::unstable_cause() const
 
 /* ----------------------------------------------------------------------
    Atom IDs renumbered since the families were stored (delete_atoms with
-   its default `compress yes`, reset_atoms id): partner lists hold the old
+   its default `compress yes`): partner lists hold the old
    IDs.  Every atom's (old, new) pair goes round the ranks once; each rank
    translates the partners it holds.  A partner whose old ID no atom
    carries any more was deleted: its bond is broken (resolve_missing would
@@ -839,7 +882,7 @@ void FixNospdBonds::follow_renumbered_tags()
   nbonds_vanished += all;
   if (comm->me == 0) {
     error->warning(FLERR, "Fix {}: atom IDs were renumbered since the bond families were built "
-                   "(delete_atoms compress, reset_atoms id): the families follow the new IDs",
+                   "(delete_atoms compress yes): the families follow the new IDs",
                    style);
     if (all)
       error->warning(FLERR, "Fix {}: {} bonds broken: their partner atoms no longer exist "
@@ -1343,6 +1386,7 @@ void FixNospdBonds::grow_arrays(int nmax)
   memory->grow(pk1, nmax, 9, "nospd/bonds:pk1");
   memory->grow(energy_density, nmax, "nospd/bonds:energy_density");
   memory->grow(own_tag, nmax, "nospd/bonds:own_tag");
+  memory->grow(family_type, nmax, "nospd/bonds:family_type");
   if (nhistory) {
     memory->grow(history, nmax, nhistory, "nospd/bonds:history");
     memory->grow(history_trial, nmax, nhistory, "nospd/bonds:history_trial");
@@ -1389,6 +1433,7 @@ void FixNospdBonds::copy_arrays(int i, int j, int /*delflag*/)
   stale[j] = stale[i];
   energy_density[j] = energy_density[i];
   own_tag[j] = own_tag[i];
+  family_type[j] = family_type[i];
   for (int k = 0; k < nhistory; k++) {
     history[j][k] = history[i][k];
     history_trial[j][k] = history_trial[i][k];
@@ -1414,6 +1459,7 @@ int FixNospdBonds::pack_exchange(int i, double *buf)
   for (int k = 0; k < 9; k++) buf[m++] = kinv[i][k];
   for (int k = 0; k < 3; k++) buf[m++] = xi_moment[i][k];
   buf[m++] = ubuf(own_tag[i]).d;
+  buf[m++] = family_type[i];
   m += pack_history(i, buf + m);
   return m;
 }
@@ -1433,6 +1479,7 @@ int FixNospdBonds::unpack_exchange(int nlocal, double *buf)
   for (int k = 0; k < 9; k++) kinv[nlocal][k] = buf[m++];
   for (int k = 0; k < 3; k++) xi_moment[nlocal][k] = buf[m++];
   own_tag[nlocal] = (tagint) ubuf(buf[m++]).i;
+  family_type[nlocal] = static_cast<int>(buf[m++]);
   if (nhistory) m += unpack_history(nlocal, buf + m, nhist_atom, nhist_bond);
   return m;
 }
@@ -1460,6 +1507,7 @@ int FixNospdBonds::pack_restart(int i, double *buf)
   }
   m += pack_history(i, buf + m);
   buf[m++] = ubuf(own_tag[i]).d;
+  buf[m++] = family_type[i];
   buf[0] = m;    // first value: size of this fix's record, as Atom expects
   return m;
 }
@@ -1490,13 +1538,15 @@ void FixNospdBonds::unpack_restart(int nlocal, int nth)
   if (nhistory) m += unpack_history(nlocal, &extra[nlocal][m], n_atom, n_bond);
   // files written before IDs were tracked end here: the ID is the file's
   own_tag[nlocal] = (m < end) ? (tagint) ubuf(extra[nlocal][m++]).i : 0;
+  // and before the type of the families was kept: unknown (not checked)
+  family_type[nlocal] = (m < end) ? static_cast<int>(extra[nlocal][m++]) : 0;
 }
 
 /* ---------------------------------------------------------------------- */
 
 int FixNospdBonds::maxsize_restart()
 {
-  return maxpartner + 7 + nhistory;
+  return maxpartner + 8 + nhistory;
 }
 
 /* ---------------------------------------------------------------------- */
@@ -1506,5 +1556,5 @@ int FixNospdBonds::size_restart(int nlocal)
   int n = 0;
   for (int k = 0; k < npartner[nlocal]; k++)
     if (partner[nlocal][k]) n++;
-  return n + 6 + (nhist_bond ? 1 : 0) + nhist_atom + n * nhist_bond;
+  return n + 7 + (nhist_bond ? 1 : 0) + nhist_atom + n * nhist_bond;
 }

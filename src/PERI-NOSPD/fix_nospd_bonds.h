@@ -222,6 +222,8 @@ class FixNospdBonds : public FixPeriNeigh {
   std::vector<double> dt_reported;    // per type, the estimate last logged
   double dt_checked = -1.0;           // the time step last checked against it
   tagint *own_tag;    // the atom's ID when its partners' IDs were last written
+  int *family_type;   // the atom's type when its family was built (0: unknown)
+  void check_family_types();
   bool count_bonds_pending = false;
   void compact_bond_arrays();
   int pair_votes[2] = {0, 0};    // against, for, since the last setup

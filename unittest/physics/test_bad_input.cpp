@@ -380,6 +380,36 @@ TEST_F(BadInput, BoundaryChangedAfterFamilies)
   EXPECT_EQ(error_of(lmp, "run 0"), "");
 }
 
+// set type after the families: the new type's horizons must be those the
+// family was built with (its material may differ)
+TEST_F(BadInput, TypeChangedToOtherHorizon)
+{
+  cmd(lmp, "units si");
+  cmd(lmp, "boundary s s s");
+  cmd(lmp, "atom_style peri");
+  cmd(lmp, "atom_modify map array");
+  cmd(lmp, "lattice sc 0.001");
+  cmd(lmp, "region box block -0.25 5.25 -0.25 5.25 -0.25 5.25");
+  cmd(lmp, "create_box 3 box");
+  cmd(lmp, "create_atoms 1 box");
+  cmd(lmp, "set group all density 7850");
+  cmd(lmp, "set group all volume 1e-9");
+  cmd(lmp, "pair_style peri/nospd");
+  cmd(lmp, "pair_coeff 1 1 200e9 0.3 0.003");
+  cmd(lmp, "pair_coeff 2 2 70e9 0.33 0.003");
+  cmd(lmp, "pair_coeff 3 3 200e9 0.3 0.0045");
+  cmd(lmp, "pair_coeff 1 2 0.003");
+  cmd(lmp, "pair_coeff 1 3 0.003");
+  cmd(lmp, "pair_coeff 2 3 0.003");
+  cmd(lmp, "region half block 2.5 INF INF INF INF INF units lattice");
+  cmd(lmp, "run 0");
+  cmd(lmp, "set region half type 2");    // same horizons, another material
+  EXPECT_EQ(error_of(lmp, "run 0"), "");
+  cmd(lmp, "set region half type 3");
+  EXPECT_THAT(error_of(lmp, "run 0"),
+              HasSubstr("has type 3 but its family was built as type 1, whose horizons differ"));
+}
+
 TEST_F(BadInput, DamageFixWithoutCriterion)
 {
   EXPECT_THAT(error_after_steel("fix d all nospd/damage"),
