@@ -461,6 +461,14 @@ void FixNospdDamage::setup_tables()
 
 void FixNospdDamage::setup_pre_force(int /*vflag*/)
 {
+  // families built anew (the first run, a pair_style command between runs,
+  // a restart read under the other style): the count of broken bonds
+  // starts over and the pre-cracks are cut into the new families
+  if (bonds->families_serial != families_seen) {
+    families_seen = bonds->families_serial;
+    nbroken_total = 0;
+    precracks_done = false;
+  }
   if (!precracks_done) {
     if (!precracks.empty()) apply_precracks();
     precracks_done = true;

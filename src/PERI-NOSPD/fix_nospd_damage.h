@@ -99,6 +99,7 @@ class FixNospdDamage : public Fix {
 
   // counts
   bigint nbroken_total;     // bonds (pairs) broken by this fix, restart-persistent
+  bigint families_seen = 0;    // the bonds fix's families_serial at the last setup
   bigint nbroken_step;      // bonds broken at the last evaluation
   bigint ncontact;          // pairs in contact at the last force evaluation
   double econtact;          // contact energy of the owned atoms, last evaluation

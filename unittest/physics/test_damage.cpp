@@ -589,6 +589,25 @@ TEST_F(Damage, HeavyDamageNoNaN)
   }
 }
 
+/* A pair_style command between runs starts new families: the damage fix
+   counts their broken bonds from zero and cuts its pre-crack into them, so
+   that the body is the one the new style would have started with. */
+TEST_F(Damage, NewFamiliesStartTheCountOver)
+{
+  fracture_plate("stretch 0.0015");
+  cmd(lmp, "run 0");
+  const double cut = fixvec("dmg", 0);
+  const double intact = fixvec("NOSPD_BONDS", 0);
+  ASSERT_GT(cut, 0);
+  cmd(lmp, "run 300");
+  ASSERT_GT(fixvec("dmg", 0), cut);
+  cmd(lmp, "pair_style peri/nospd/hs strain small plane stress");
+  cmd(lmp, "pair_coeff * * 72e9 0.22 0.003015");
+  cmd(lmp, "run 0");
+  EXPECT_EQ(fixvec("dmg", 0), cut);
+  EXPECT_EQ(fixvec("NOSPD_BONDS", 0), intact);
+}
+
 /* Restart in the middle of a fracture run: the continued run has the same
    damage and positions as an uninterrupted one. */
 TEST_F(Damage, RestartContinuesSameDamage)
