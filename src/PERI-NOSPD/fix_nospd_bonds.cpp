@@ -121,7 +121,10 @@ int FixNospdBonds::setmask()
 void FixNospdBonds::init()
 {
   if (!model.horizon)
-    error->all(FLERR, "Fix {} needs a peri/nospd pair style to define the horizons", style);
+    error->all(FLERR, "Fix {} needs a peri/nospd pair style to define the horizons{}", style,
+               strcmp(id, "NOSPD_BONDS") == 0 ? ""
+               : fmt::format(" (fix {} was defined in the input: the pair style makes its own, "
+                             "fix NOSPD_BONDS; remove it)", id));
   if (atom->map_style == Atom::MAP_NONE)
     error->all(FLERR, "Fix {} requires an atom map, see atom_modify", style);
   FixPeriNeigh::init();
@@ -552,12 +555,23 @@ void FixNospdBonds::check_coincident(int i, int j, double r) const
 {
   const double v = std::min(atom->vfrac[i], atom->vfrac[j]);
   const double spacing = (model.dim == 3) ? cbrt(v) : sqrt(v / model.thickness);
-  if (r < model.coincident_fraction * spacing)
-    error->one(FLERR, "Fix {}: atoms {} and {} are {:.6g} apart in the reference "
-               "configuration, less than {} of their spacing {:.6g} (from the volume): "
-               "overlapping points, e.g. two create_atoms on the same region; remove one with "
-               "delete_atoms overlap", style, atom->tag[i], atom->tag[j], r,
-               model.coincident_fraction, spacing);
+  if (r >= model.coincident_fraction * spacing) return;
+  // r is the minimum image: name a periodic boundary when it brings them close
+  double **x0 = atom->x0;
+  const double direct = sqrt((x0[j][0] - x0[i][0]) * (x0[j][0] - x0[i][0]) +
+                             (x0[j][1] - x0[i][1]) * (x0[j][1] - x0[i][1]) +
+                             (x0[j][2] - x0[i][2]) * (x0[j][2] - x0[i][2]));
+  const bool across = direct > 2.0 * r + 0.5 * spacing;
+  error->one(FLERR, "Fix {}: atoms {} and {} are {:.6g} apart in the reference configuration{}, "
+             "less than {} of their spacing {:.6g} (from the volume): overlapping points, {}",
+             style, atom->tag[i], atom->tag[j], r,
+             across ? fmt::format(" across a periodic boundary ({:.6g} apart inside the box)",
+                                  direct) : "",
+             model.coincident_fraction, spacing,
+             across ? "e.g. atoms on both faces of a periodic box (a lattice region that ends on "
+                      "the box's upper face, or a body read without its own boundary)"
+                    : "e.g. two create_atoms on the same region; remove one with delete_atoms "
+                      "overlap");
 }
 
 /* ----------------------------------------------------------------------

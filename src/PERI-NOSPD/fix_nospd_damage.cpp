@@ -260,8 +260,13 @@ FixNospdDamage::FixNospdDamage(LAMMPS *lmp, int narg, char **arg) :
       nevery = utils::inumeric(FLERR, arg[iarg + 1], false, lmp);
       if (nevery <= 0) error->all(FLERR, "{}: every must be > 0", cmd);
       iarg += 2;
-    } else
+    } else {
+      for (const char *c : {"none", "stretch", "energy", "stress", "strain", "eqps", "johnson_cook"})
+        if (key == c)
+          error->all(FLERR, "{}: a second criterion '{}': one fix has one criterion (the first "
+                     "argument); define another fix nospd/damage for another", cmd, key);
       error->all(FLERR, "{}: unknown keyword '{}'", cmd, key);
+    }
   }
   if (contact) {
     // the contact force is an interaction like the pair style's: its energy

@@ -410,6 +410,37 @@ TEST_F(BadInput, TypeChangedToOtherHorizon)
               HasSubstr("has type 3 but its family was built as type 1, whose horizons differ"));
 }
 
+TEST_F(BadInput, DamageSecondCriterion)
+{
+  EXPECT_THAT(error_after_steel("fix d all nospd/damage stretch 0.001 stretch 0.002"),
+              HasSubstr("a second criterion 'stretch'"));
+}
+
+TEST_F(BadInput, BondsFixDefinedByTheUser)
+{
+  error_after_steel("fix X all PERI_NEIGH/NOSPD");
+  EXPECT_THAT(error_of(lmp, "run 0"), HasSubstr("fix X was defined in the input"));
+}
+
+// points that coincide only through a periodic boundary: the message says so
+TEST_F(BadInput, CoincidentAcrossPeriodicBoundary)
+{
+  cmd(lmp, "units si");
+  cmd(lmp, "boundary p p p");
+  cmd(lmp, "atom_style peri");
+  cmd(lmp, "atom_modify map array");
+  cmd(lmp, "lattice sc 0.001");
+  cmd(lmp, "region box block -0.001 7.004 0 7 0 7 units lattice");
+  cmd(lmp, "create_box 1 box");
+  cmd(lmp, "create_atoms 1 box");
+  cmd(lmp, "set group all density 7850");
+  cmd(lmp, "set group all volume 1e-9");
+  cmd(lmp, "pair_style peri/nospd");
+  cmd(lmp, "pair_coeff * * 200e9 0.3 0.003015");
+  EXPECT_THAT(error_of(lmp, "run 0"), HasSubstr("apart in the reference configuration across a "
+                                                "periodic boundary (0.007 apart inside the box)"));
+}
+
 TEST_F(BadInput, DamageFixWithoutCriterion)
 {
   EXPECT_THAT(error_after_steel("fix d all nospd/damage"),
