@@ -821,10 +821,13 @@ std::string FixNospdBonds::unstable_cause() const
   if (est > 0.0 && update->dt > est)
     return fmt::format(": timestep {:.4g} exceeds the stable estimate {:.4g} (see the log); "
                        "reduce it", update->dt, est);
+  const bool periodic = domain->xperiodic || domain->yperiodic || domain->zperiodic;
   if (est > 0.0)
     return fmt::format(" although timestep {:.4g} is below the stable estimate {:.4g}: look "
-                       "for a stiff contact, an overlapping body or a large applied velocity",
-                       update->dt, est);
+                       "for a stiff contact, an overlapping body or a large applied velocity{}",
+                       update->dt, est,
+                       periodic ? ", or for displacements beyond half the periodic box length "
+                                  "(a large shear or rotation of a periodic body)" : "");
   return "";
 }
 
