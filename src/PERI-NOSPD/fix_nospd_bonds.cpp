@@ -1374,7 +1374,8 @@ double FixNospdBonds::memory_usage()
   const double nmax = atom->nmax;
   double bytes = nmax * (sizeof(int) + 2 * sizeof(double));
   bytes += nmax * maxpartner * sizeof(tagint);
-  bytes += nmax * (3 * 9 + 2 * 3 + 1) * sizeof(double) + 3 * nmax * sizeof(int);
+  // family_size, singular, stale, family_type; own_tag
+  bytes += nmax * (3 * 9 + 2 * 3 + 1) * sizeof(double) + nmax * (4 * sizeof(int) + sizeof(tagint));
   bytes += (double) nmax_first * sizeof(int);
   bytes += (double) nmax_bonds * (2 * sizeof(int) + sizeof(double));
   bytes += (double) nmax_pair * 2 * sizeof(int);
