@@ -987,8 +987,9 @@ void FixNospdBonds::resolve_missing(const std::vector<MissingPartner> &missing)
   MPI_Allreduce(&nlocal, &natoms_now, 1, MPI_LMP_BIGINT, MPI_SUM, world);
   if (natoms_now < atom->natoms && output->thermo && output->thermo->lostflag == Thermo::ERROR) {
     const std::string hint = (update->whichflag == 2)
-        ? ": under minimize the line search moved them up to min_modify dmax; set it to a "
-          "fraction of the point spacing"
+        ? ": under minimize the line search moved them up to min_modify dmax (and a fix "
+          "box/relax the box by up to its vmax); set them to a fraction of the point spacing "
+          "(and of the strain)"
         : ": a blown-up run or a body leaving a non-periodic box; to let atoms go, use "
           "thermo_modify lost ignore";
     error->all(FLERR, "Fix {}: {} atoms were lost, and bond partners with them{}", style,

@@ -579,9 +579,16 @@ void PairPeriNospd::init_style()
   if (atom->map_style == Atom::MAP_NONE)
     error->all(FLERR, "{} requires an atom map: add 'atom_modify map array' before the box",
                cmd);
+  // force densities are stress / length and the stable time step is taken
+  // with f = m a: both hold only where pressure is force per area and force
+  // is mass times acceleration without conversion factors
+  if (force->nktv2p != 1.0 || force->ftm2v != 1.0)
+    error->all(FLERR, "{} requires a unit style without pressure or force conversion factors "
+               "(si, cgs, micro, nano, lj), not units {}", cmd, update->unit_style);
   const int dim = domain->dimension;
   if (dim == 2 && domain->zperiodic == 0)
     error->all(FLERR, "{}: 2D runs need a periodic z", cmd);
+  warn_barostats(cmd);
 
   // the types this style owns: under pair hybrid, only those given to it
   active.assign(atom->ntypes + 1, 0);
@@ -691,6 +698,22 @@ void PairPeriNospd::init_style()
   fix_bonds->vote_pair_order(pair_order_usable());
   // no neighbor list: the families are fixed and live in the fix; the
   // ghost cutoff follows from the pair cutoff (horizon) plus the skin
+}
+
+/* ----------------------------------------------------------------------
+   fixes that hold a pressure act on LAMMPS's pressure, which here is the
+   body's stress divided by the point volume (forces are densities)
+------------------------------------------------------------------------- */
+
+void PairPeriNospd::warn_barostats(const std::string &cmd)
+{
+  if (comm->me != 0) return;
+  for (const auto *f : modify->get_fix_list())
+    if (utils::strmatch(f->style, "^box/relax") || utils::strmatch(f->style, "^np[th]") ||
+        utils::strmatch(f->style, "^nph") || utils::strmatch(f->style, "^press/"))
+      error->warning(FLERR, "{}: fix {} ({}) controls LAMMPS's pressure, which under this style "
+                     "is the stress divided by the point volume (forces are force densities): "
+                     "give it the target stress divided by the point volume", cmd, f->id, f->style);
 }
 
 /* ----------------------------------------------------------------------

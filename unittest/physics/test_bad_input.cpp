@@ -210,6 +210,31 @@ TEST_F(BadInput, MaterialFileUnits)
   EXPECT_THAT(msg, HasSubstr("metal"));
 }
 
+// metal and real carry conversion factors between pressure and force per
+// area and between force and mass times acceleration that force densities
+// and the stable time step do not: an error, not forces 1e3-1e6 off
+TEST_F(BadInput, UnitStyleWithConversionFactors)
+{
+  for (const char *units : {"metal", "real"}) {
+    delete lmp;
+    lmp = open_lammps();
+    deck("peri", true, units);
+    cmd(lmp, "pair_style peri/nospd");
+    cmd(lmp, "pair_coeff * * 2e6 0.3 3.015");
+    EXPECT_THAT(error_of(lmp, "run 0"),
+                HasSubstr(std::string("without pressure or force conversion factors (si, cgs, "
+                                      "micro, nano, lj), not units ") + units));
+  }
+  for (const char *units : {"cgs", "micro"}) {
+    delete lmp;
+    lmp = open_lammps();
+    deck("peri", true, units);
+    cmd(lmp, "pair_style peri/nospd");
+    cmd(lmp, "pair_coeff * * 2e12 0.3 0.003");
+    EXPECT_EQ(error_of(lmp, "run 0"), "") << units;
+  }
+}
+
 TEST_F(BadInput, MaterialFromFileWorks)
 {
   deck();
