@@ -52,6 +52,7 @@ FixNospdBonds::FixNospdBonds(LAMMPS *lmp, int narg, char **arg) :
   extvector = 0;
   maxexchange_dynamic = 1;
   for (int k = 0; k < 6; k++) ref_h[k] = last_h[k] = 0.0;
+  for (int k = 0; k < 6; k++) created_h[k] = domain->h[k];
 
   FixNospdBonds::grow_arrays(atom->nmax);
   const int nlocal = atom->nlocal;
@@ -144,6 +145,7 @@ void FixNospdBonds::setup_post_neighbor()
   update_x0s();
   const bool built_now = first;
   if (first) {
+    adopt_box_of_creation();
     build_families();
     first = 0;
     family_horizon.clear();
@@ -196,6 +198,52 @@ void FixNospdBonds::check_horizons()
 }
 
 /* ---------------------------------------------------------------------- */
+
+/* ----------------------------------------------------------------------
+   the reference box of bonds across periodic boundaries.  The first build
+   takes the current box, unless the periodic box changed since the fix was
+   made (at the first pair_coeff) and the atoms moved with it (change_box
+   ... remap): their x0 then lie in the box they were placed in, which is
+   the reference box, and the change is a pre-strain of the whole body.
+   Taking the new box would strain the bonds inside the body and not those
+   across the boundary.
+------------------------------------------------------------------------- */
+
+void FixNospdBonds::adopt_box_of_creation()
+{
+  const double *h = domain->h;
+  const int periodic[3] = {domain->xperiodic, domain->yperiodic, domain->zperiodic};
+  // xprd yprd zprd, then yz (z), xz (z), xy (y)
+  const int needs[6] = {0, 1, 2, 2, 2, 1};
+  bool changed = false;
+  for (int k = 0; k < 6; k++)
+    if (periodic[needs[k]] &&
+        std::abs(h[k] - created_h[k]) > 1.0e-12 * std::max(domain->prd[needs[k]], 1.0e-300))
+      changed = true;
+  if (!changed) return;
+  double moved = 0.0;
+  double **x = atom->x, **x0 = atom->x0;
+  for (int i = 0; i < atom->nlocal; i++) {
+    if (model.active && !model.active[atom->type[i]]) continue;
+    double d[3] = {x[i][0] - x0[i][0], x[i][1] - x0[i][1], x[i][2] - x0[i][2]};
+    domain->minimum_image(FLERR, d);
+    moved = std::max(moved, sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]));
+  }
+  double moved_all = 0.0;
+  MPI_Allreduce(&moved, &moved_all, 1, MPI_DOUBLE, MPI_MAX, world);
+  double lmin = 1.0e300;
+  for (int k = 0; k < 3; k++)
+    if (periodic[k]) lmin = std::min(lmin, domain->prd[k]);
+  if (moved_all <= 1.0e-9 * lmin) return;
+  for (int k = 0; k < 6; k++) ref_h[k] = created_h[k];
+  update_x0s();
+  if (comm->me == 0)
+    utils::logmesg(lmp,
+                   "  Fix {}: the periodic box changed since pair_coeff and the atoms moved "
+                   "with it: the box at pair_coeff ({} x {} x {}) is the reference box, the body "
+                   "is pre-strained\n",
+                   id, created_h[0], created_h[1], created_h[2]);
+}
 
 /* ----------------------------------------------------------------------
    an atom whose type changed since its family was built (set type) takes

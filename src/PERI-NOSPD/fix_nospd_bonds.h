@@ -199,6 +199,8 @@ class FixNospdBonds : public FixPeriNeigh {
   double ref_h[6], last_h[6];
   void follow_box();
   int built_periodic = -1;    // periodic dimensions (bits x y z) at the first build
+  double created_h[6];        // the box when the fix was made (first pair_coeff)
+  void adopt_box_of_creation();
   void check_periodicity(bool built_now);
   int style_kind = 0;      // the owning pair style's family_kind()
   int restart_kind = 0;    // that of the restart file's writer (0: none)

@@ -13,32 +13,53 @@ using namespace nospdtest;
 
 namespace {
 
-class Periodic : public ::testing::TestWithParam<int> {};
+class Periodic : public ::testing::TestWithParam<int> {
+ protected:
+  Block blk;
+  // an 8^3 (3D) or 12^2 (2D) periodic block
+  LAMMPS *periodic_block()
+  {
+    LAMMPS *lmp = open_lammps();
+    blk.dim = GetParam();
+    blk.n = blk.dim == 3 ? 8 : 12;
+    blk.periodic = true;
+    blk.settings = "strain svk stabilization silling 0.5";
+    make_block(lmp, blk);
+    return lmp;
+  }
+  static NOSPD::Mat3 box(LAMMPS *lmp)
+  {
+    const double *h = lmp->domain->h;
+    NOSPD::Mat3 m;
+    m << h[0], h[5], h[4], 0.0, h[1], h[3], 0.0, 0.0, h[2];
+    return m;
+  }
+  // F is F0 at every atom and the forces vanish
+  void expect_uniform(LAMMPS *lmp, const NOSPD::Mat3 &F0)
+  {
+    auto *fb =
+        static_cast<LAMMPS_NS::FixNospdBonds *>(lmp->modify->get_fix_by_id("NOSPD_BONDS"));
+    double dF = 0.0, fmax = 0.0;
+    for (int i = 0; i < lmp->atom->nlocal; i++) {
+      dF = std::max(dF, (NOSPD::load(fb->defgrad[i]) - F0).cwiseAbs().maxCoeff());
+      for (int k = 0; k < 3; k++) fmax = std::max(fmax, std::abs(lmp->atom->f[i][k]));
+    }
+    EXPECT_LT(dF, 1e-12);
+    EXPECT_LT(fmax, 1e-9 * blk.E / blk.dx);
+  }
+};
 
 TEST_P(Periodic, StretchedBoxPatchTest)
 {
-  LAMMPS *lmp = open_lammps();
-  Block blk;
-  blk.dim = GetParam();
-  blk.n = blk.dim == 3 ? 8 : 12;
-  blk.periodic = true;
-  blk.settings = "strain svk stabilization silling 0.5";
-  make_block(lmp, blk);
+  LAMMPS *lmp = periodic_block();
   cmd(lmp, "run 0");
   // stretch x by 1 %, shrink y by 0.5 %, atoms remapped with the box
   cmd(lmp, "change_box all x scale 1.01 y scale 0.995 remap");
   cmd(lmp, "run 0");
-  auto *fb = static_cast<LAMMPS_NS::FixNospdBonds *>(lmp->modify->get_fix_by_id("NOSPD_BONDS"));
   NOSPD::Mat3 F0 = NOSPD::Mat3::Identity();
   F0(0, 0) = 1.01;
   F0(1, 1) = 0.995;
-  double dF = 0.0, fmax = 0.0;
-  for (int i = 0; i < lmp->atom->nlocal; i++) {
-    dF = std::max(dF, (NOSPD::load(fb->defgrad[i]) - F0).cwiseAbs().maxCoeff());
-    for (int k = 0; k < 3; k++) fmax = std::max(fmax, std::abs(lmp->atom->f[i][k]));
-  }
-  EXPECT_LT(dF, 1e-12);
-  EXPECT_LT(fmax, 1e-9 * blk.E / blk.dx);
+  expect_uniform(lmp, F0);
   // the energy is N W(F0) with W of the law: nonzero and uniform
   EXPECT_GT(lmp->force->pair->eng_vdwl, 0.0);
   delete lmp;
@@ -49,22 +70,10 @@ TEST_P(Periodic, StretchedBoxPatchTest)
 // reneighboring, so F is the box's deformation at every atom
 TEST_P(Periodic, ShearedBoxPatchTest)
 {
-  LAMMPS *lmp = open_lammps();
-  Block blk;
-  blk.dim = GetParam();
-  blk.n = blk.dim == 3 ? 8 : 12;
-  blk.periodic = true;
-  blk.settings = "strain svk stabilization silling 0.5";
-  make_block(lmp, blk);
+  LAMMPS *lmp = periodic_block();
   cmd(lmp, "change_box all triclinic");
   cmd(lmp, "run 0");
-  auto box = [&] {
-    const double *h = lmp->domain->h;
-    NOSPD::Mat3 m;
-    m << h[0], h[5], h[4], 0.0, h[1], h[3], 0.0, 0.0, h[2];
-    return m;
-  };
-  const NOSPD::Mat3 H0 = box();
+  const NOSPD::Mat3 H0 = box(lmp);
   const double L = blk.n * blk.dx;
   cmd(lmp, "change_box all xy final " + num(0.02 * L) + " x scale 1.01 remap units box");
   if (blk.dim == 3)
@@ -73,17 +82,34 @@ TEST_P(Periodic, ShearedBoxPatchTest)
   cmd(lmp, "run 0");
   // twice: the second setup takes the box from the first one's state
   cmd(lmp, "run 0");
-  const NOSPD::Mat3 F0 = box() * H0.inverse();
-  auto *fb = static_cast<LAMMPS_NS::FixNospdBonds *>(lmp->modify->get_fix_by_id("NOSPD_BONDS"));
-  double dF = 0.0, fmax = 0.0;
-  for (int i = 0; i < lmp->atom->nlocal; i++) {
-    dF = std::max(dF, (NOSPD::load(fb->defgrad[i]) - F0).cwiseAbs().maxCoeff());
-    for (int k = 0; k < 3; k++) fmax = std::max(fmax, std::abs(lmp->atom->f[i][k]));
-  }
+  const NOSPD::Mat3 F0 = box(lmp) * H0.inverse();
   EXPECT_GT(std::abs(F0(0, 1)), 0.01);
-  EXPECT_LT(dF, 1e-12);
-  EXPECT_LT(fmax, 1e-9 * blk.E / blk.dx);
+  expect_uniform(lmp, F0);
   delete lmp;
+}
+
+// the box changed before the first run: with the atoms (change_box ...
+// remap) it is a pre-strain, and the box at pair_coeff, where x0 were
+// placed, is the reference box; without them it is a new box for the same
+// reference body, and F is the identity
+TEST_P(Periodic, BoxChangedBeforeFirstRun)
+{
+  for (const bool remap : {true, false}) {
+    SCOPED_TRACE(remap ? "remap" : "no remap");
+    LAMMPS *lmp = periodic_block();
+    cmd(lmp, "change_box all triclinic");
+    const NOSPD::Mat3 H0 = box(lmp);
+    const double L = blk.n * blk.dx;
+    const std::string how = remap ? " remap units box" : " units box";
+    cmd(lmp, "change_box all xy final " + num(0.02 * L) + " x scale 1.01 y scale 0.995" + how);
+    cmd(lmp, "run 0");
+    expect_uniform(lmp, remap ? NOSPD::Mat3(box(lmp) * H0.inverse()) : NOSPD::Mat3::Identity());
+    if (remap)
+      EXPECT_GT(lmp->force->pair->eng_vdwl, 0.0);
+    else
+      EXPECT_LT(std::abs(lmp->force->pair->eng_vdwl), 1e-20 * blk.E);
+    delete lmp;
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(Box, Periodic, ::testing::Values(3, 2),
