@@ -26,12 +26,25 @@ static constexpr int NOSPD_HIST_WORK = NOSPD::Hist::WORK;
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <map>
 #include <numeric>
 #include <utility>
 #include <vector>
 
 using namespace LAMMPS_NS;
 using namespace FixConst;
+
+namespace {
+// the reference box of a bonds fix that a pair_style command deleted (its
+// destructor runs while LAMMPS goes on), per LAMMPS instance, with the
+// fingerprint of the x0 it was the box of: the next style's fix builds its
+// families from the same x0 and must take the same box
+struct ReplacedBox {
+  double ref_h[6], last_h[6], print[7];
+  double initclock;    // of the instance (another may come at the same address)
+};
+std::map<const LAMMPS *, ReplacedBox> replaced_boxes;
+}    // namespace
 
 /* ---------------------------------------------------------------------- */
 
@@ -88,6 +101,16 @@ void FixNospdBonds::clear_atom(int i)
 
 FixNospdBonds::~FixNospdBonds()
 {
+  // clear and exit delete update first; a pair_style command does not
+  if (lmp->update && ref_box_set && built_periodic > 0 && x0_print_set) {
+    ReplacedBox &r = replaced_boxes[lmp];
+    std::copy(ref_h, ref_h + 6, r.ref_h);
+    std::copy(last_h, last_h + 6, r.last_h);
+    std::copy(x0_print, x0_print + 7, r.print);
+    r.initclock = lmp->initclock;
+  } else if (!lmp->update) {
+    replaced_boxes.erase(lmp);
+  }
   memory->destroy(bond_first);
   memory->destroy(bond_j);
   memory->destroy(bond_slot);
@@ -145,7 +168,7 @@ void FixNospdBonds::setup_post_neighbor()
   update_x0s();
   const bool built_now = first;
   if (first) {
-    adopt_box_of_creation();
+    choose_reference_box();
     build_families();
     first = 0;
     family_horizon.clear();
@@ -198,6 +221,72 @@ void FixNospdBonds::check_horizons()
 }
 
 /* ---------------------------------------------------------------------- */
+
+/* ----------------------------------------------------------------------
+   the reference box of the first build: that of the families a pair_style
+   command replaced, if they were built from the same x0; else the box at
+   the first pair_coeff or the current one (adopt_box_of_creation)
+------------------------------------------------------------------------- */
+
+void FixNospdBonds::choose_reference_box()
+{
+  print_x0(x0_print);
+  x0_print_set = true;
+  if (!take_replaced_box()) adopt_box_of_creation();
+}
+
+// bounds and sum of the x0 of all atoms: which reference body this is
+void FixNospdBonds::print_x0(double *print) const
+{
+  double lo[3] = {1.0e300, 1.0e300, 1.0e300}, hi[3] = {-1.0e300, -1.0e300, -1.0e300}, sum = 0.0;
+  double **x0 = atom->x0;
+  for (int i = 0; i < atom->nlocal; i++)
+    for (int d = 0; d < 3; d++) {
+      lo[d] = std::min(lo[d], x0[i][d]);
+      hi[d] = std::max(hi[d], x0[i][d]);
+      sum += x0[i][d];
+    }
+  MPI_Allreduce(lo, print, 3, MPI_DOUBLE, MPI_MIN, world);
+  MPI_Allreduce(hi, print + 3, 3, MPI_DOUBLE, MPI_MAX, world);
+  MPI_Allreduce(&sum, print + 6, 1, MPI_DOUBLE, MPI_SUM, world);
+}
+
+/* ----------------------------------------------------------------------
+   families built anew after a pair_style command (the old style's fix is
+   gone) come from the same x0 as the old ones, whose reference box a run
+   since may have deformed (fix deform, change_box ... remap): the old
+   reference box stays, else the bonds across the boundary would take the
+   deformed box as unstrained while those inside the body are strained
+------------------------------------------------------------------------- */
+
+bool FixNospdBonds::take_replaced_box()
+{
+  const auto it = replaced_boxes.find(lmp);
+  if (it == replaced_boxes.end()) return false;
+  const ReplacedBox saved = it->second;
+  replaced_boxes.erase(it);
+  if (saved.initclock != lmp->initclock) return false;
+  if (!(domain->xperiodic || domain->yperiodic || domain->zperiodic)) return false;
+  double scale = 0.0;
+  for (int d = 0; d < 3; d++) scale = std::max(scale, domain->prd[d]);
+  for (int k = 0; k < 7; k++) {
+    const double tol = 1.0e-12 * (k < 6 ? scale : scale * atom->natoms);
+    if (std::abs(saved.print[k] - x0_print[k]) > tol) return false;
+  }
+  std::copy(saved.ref_h, saved.ref_h + 6, ref_h);
+  std::copy(saved.last_h, saved.last_h + 6, last_h);
+  ref_box_set = 1;
+  update_x0s();    // follows flips since (follow_box) and shifts the images
+  bool deformed = false;
+  for (int k = 0; k < 6; k++)
+    if (std::abs(ref_h[k] - domain->h[k]) > 1.0e-12 * scale) deformed = true;
+  if (deformed && comm->me == 0)
+    utils::logmesg(lmp,
+                   "  Fix {}: the families of the replaced pair style had the reference box "
+                   "{} x {} x {}; the new ones keep it (the box was deformed since)\n",
+                   id, ref_h[0], ref_h[1], ref_h[2]);
+  return true;
+}
 
 /* ----------------------------------------------------------------------
    the reference box of bonds across periodic boundaries.  The first build
@@ -496,7 +585,7 @@ void FixNospdBonds::start_over()
   for (int i = 0; i < atom->nlocal; i++) clear_atom(i);
   first = 1;
   nbonds_vanished = 0;
-  ref_box_set = 0;
+  // the x0 stay, and with them the box they are the reference of
   built_periodic = -1;
   family_horizon.clear();
   history_law.clear();

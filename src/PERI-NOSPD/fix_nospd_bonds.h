@@ -201,6 +201,11 @@ class FixNospdBonds : public FixPeriNeigh {
   int built_periodic = -1;    // periodic dimensions (bits x y z) at the first build
   double created_h[6];        // the box when the fix was made (first pair_coeff)
   void adopt_box_of_creation();
+  double x0_print[7];          // bounds and sum of the x0: which reference body
+  bool x0_print_set = false;
+  void print_x0(double *print) const;
+  void choose_reference_box();
+  bool take_replaced_box();
   void check_periodicity(bool built_now);
   int style_kind = 0;      // the owning pair style's family_kind()
   int restart_kind = 0;    // that of the restart file's writer (0: none)

@@ -34,6 +34,25 @@ class Periodic : public ::testing::TestWithParam<int> {
     m << h[0], h[5], h[4], 0.0, h[1], h[3], 0.0, 0.0, h[2];
     return m;
   }
+  // families built in the triclinic box, then sheared and stretched with
+  // the atoms (in 3D in all three tilts); returns the box of the families
+  NOSPD::Mat3 shear_after_first_run(LAMMPS *lmp)
+  {
+    cmd(lmp, "change_box all triclinic");
+    cmd(lmp, "run 0");
+    const NOSPD::Mat3 H0 = box(lmp);
+    const double L = blk.n * blk.dx;
+    cmd(lmp, "change_box all xy final " + num(0.02 * L) + " x scale 1.01 remap units box");
+    if (blk.dim == 3)
+      cmd(lmp, "change_box all xz final " + num(-0.01 * L) + " yz final " + num(0.015 * L) +
+               " remap units box");
+    cmd(lmp, "run 0");
+    return H0;
+  }
+  std::string coeff() const
+  {
+    return "pair_coeff * * " + num(blk.E) + " " + num(blk.nu) + " " + num(blk.delta());
+  }
   // F is F0 at every atom and the forces vanish
   void expect_uniform(LAMMPS *lmp, const NOSPD::Mat3 &F0)
   {
@@ -71,15 +90,7 @@ TEST_P(Periodic, StretchedBoxPatchTest)
 TEST_P(Periodic, ShearedBoxPatchTest)
 {
   LAMMPS *lmp = periodic_block();
-  cmd(lmp, "change_box all triclinic");
-  cmd(lmp, "run 0");
-  const NOSPD::Mat3 H0 = box(lmp);
-  const double L = blk.n * blk.dx;
-  cmd(lmp, "change_box all xy final " + num(0.02 * L) + " x scale 1.01 remap units box");
-  if (blk.dim == 3)
-    cmd(lmp, "change_box all xz final " + num(-0.01 * L) + " yz final " + num(0.015 * L) +
-             " remap units box");
-  cmd(lmp, "run 0");
+  const NOSPD::Mat3 H0 = shear_after_first_run(lmp);
   // twice: the second setup takes the box from the first one's state
   cmd(lmp, "run 0");
   const NOSPD::Mat3 F0 = box(lmp) * H0.inverse();
@@ -110,6 +121,49 @@ TEST_P(Periodic, BoxChangedBeforeFirstRun)
       EXPECT_LT(std::abs(lmp->force->pair->eng_vdwl), 1e-20 * blk.E);
     delete lmp;
   }
+}
+
+// a pair_style command in a box deformed since the families were built:
+// the new style's families come from the same x0 and keep the reference
+// box of the old ones, so F is still the box's deformation everywhere
+TEST_P(Periodic, PairStyleChangedInDeformedBox)
+{
+  LAMMPS *lmp = periodic_block();
+  const NOSPD::Mat3 H0 = shear_after_first_run(lmp);
+  cmd(lmp, "pair_style peri/nospd/hs strain svk");
+  cmd(lmp, coeff());
+  cmd(lmp, "run 0");
+  cmd(lmp, "pair_style peri/nospd " + blk.settings);
+  cmd(lmp, coeff());
+  cmd(lmp, "run 0");
+  expect_uniform(lmp, box(lmp) * H0.inverse());
+  delete lmp;
+}
+
+// the same through a restart file read under the other style: the families
+// are built anew, in the reference box the file holds
+TEST_P(Periodic, RestartUnderOtherStyleInDeformedBox)
+{
+  const std::string rfile = "nospd_periodic_" + std::to_string(GetParam()) + "d.restart";
+  LAMMPS *lmp = periodic_block();
+  cmd(lmp, "run 0");
+  cmd(lmp, "change_box all x scale 1.01 y scale 0.995 remap");
+  cmd(lmp, "run 0");
+  cmd(lmp, "write_restart " + rfile);
+  delete lmp;
+  lmp = open_lammps();
+  cmd(lmp, "read_restart " + rfile);
+  cmd(lmp, "pair_style peri/nospd/hs strain svk");
+  cmd(lmp, coeff());
+  cmd(lmp, "run 0");
+  // the hs style's forces of a uniform F vanish as well
+  double fmax = 0.0;
+  for (int i = 0; i < lmp->atom->nlocal; i++)
+    for (int k = 0; k < 3; k++) fmax = std::max(fmax, std::abs(lmp->atom->f[i][k]));
+  EXPECT_LT(fmax, 1e-9 * blk.E / blk.dx);
+  EXPECT_GT(lmp->force->pair->eng_vdwl, 0.0);
+  delete lmp;
+  std::remove(rfile.c_str());
 }
 
 INSTANTIATE_TEST_SUITE_P(Box, Periodic, ::testing::Values(3, 2),
