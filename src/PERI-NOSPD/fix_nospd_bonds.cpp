@@ -165,15 +165,20 @@ void FixNospdBonds::setup(int /*vflag*/) {}
 
 void FixNospdBonds::setup_post_neighbor()
 {
+  const bool had_reference_box = ref_box_set;    // from a restart file
   update_x0s();
   const bool built_now = first;
   if (first) {
-    choose_reference_box();
+    choose_reference_box(had_reference_box);
     build_families();
     first = 0;
     family_horizon.clear();
   } else {
     follow_renumbered_tags();
+  }
+  if (!x0_print_set) {    // families from a restart file
+    print_x0(x0_print);
+    x0_print_set = true;
   }
   check_horizons();
   if (!built_now) check_family_types();
@@ -223,15 +228,17 @@ void FixNospdBonds::check_horizons()
 /* ---------------------------------------------------------------------- */
 
 /* ----------------------------------------------------------------------
-   the reference box of the first build: that of the families a pair_style
-   command replaced, if they were built from the same x0; else the box at
-   the first pair_coeff or the current one (adopt_box_of_creation)
+   the reference box of the first build: the one a restart file gave (for
+   families built anew under the other style); else that of the families a
+   pair_style command replaced, if they were built from the same x0; else
+   the box at the first pair_coeff or the current one
 ------------------------------------------------------------------------- */
 
-void FixNospdBonds::choose_reference_box()
+void FixNospdBonds::choose_reference_box(bool had_reference_box)
 {
   print_x0(x0_print);
   x0_print_set = true;
+  if (had_reference_box) return;
   if (!take_replaced_box()) adopt_box_of_creation();
 }
 

@@ -204,7 +204,7 @@ class FixNospdBonds : public FixPeriNeigh {
   double x0_print[7];          // bounds and sum of the x0: which reference body
   bool x0_print_set = false;
   void print_x0(double *print) const;
-  void choose_reference_box();
+  void choose_reference_box(bool had_reference_box);
   bool take_replaced_box();
   void check_periodicity(bool built_now);
   int style_kind = 0;      // the owning pair style's family_kind()

@@ -140,29 +140,42 @@ TEST_P(Periodic, PairStyleChangedInDeformedBox)
   delete lmp;
 }
 
-// the same through a restart file read under the other style: the families
-// are built anew, in the reference box the file holds
-TEST_P(Periodic, RestartUnderOtherStyleInDeformedBox)
+// the same through a restart file: read under the other style (families
+// built anew in the reference box the file holds), then switched back; or
+// read under the same style (the file's families) and then switched
+TEST_P(Periodic, RestartInDeformedBoxThenOtherStyle)
 {
   const std::string rfile = "nospd_periodic_" + std::to_string(GetParam()) + "d.restart";
   LAMMPS *lmp = periodic_block();
   cmd(lmp, "run 0");
+  NOSPD::Mat3 F0 = NOSPD::Mat3::Identity();
+  F0(0, 0) = 1.01;
+  F0(1, 1) = 0.995;
   cmd(lmp, "change_box all x scale 1.01 y scale 0.995 remap");
   cmd(lmp, "run 0");
   cmd(lmp, "write_restart " + rfile);
   delete lmp;
-  lmp = open_lammps();
-  cmd(lmp, "read_restart " + rfile);
-  cmd(lmp, "pair_style peri/nospd/hs strain svk");
-  cmd(lmp, coeff());
-  cmd(lmp, "run 0");
-  // the hs style's forces of a uniform F vanish as well
-  double fmax = 0.0;
-  for (int i = 0; i < lmp->atom->nlocal; i++)
-    for (int k = 0; k < 3; k++) fmax = std::max(fmax, std::abs(lmp->atom->f[i][k]));
-  EXPECT_LT(fmax, 1e-9 * blk.E / blk.dx);
-  EXPECT_GT(lmp->force->pair->eng_vdwl, 0.0);
-  delete lmp;
+  for (const bool same_style_first : {false, true}) {
+    SCOPED_TRACE(same_style_first ? "read under peri/nospd" : "read under peri/nospd/hs");
+    lmp = open_lammps();
+    cmd(lmp, "read_restart " + rfile);
+    const std::string classical = "pair_style peri/nospd " + blk.settings;
+    const std::string hs = "pair_style peri/nospd/hs strain svk";
+    for (const std::string &style : same_style_first ? std::vector<std::string>{classical, hs}
+                                                     : std::vector<std::string>{hs, classical}) {
+      cmd(lmp, style);
+      cmd(lmp, coeff());
+      cmd(lmp, "run 0");
+      // a uniform F: no force under either style
+      double fmax = 0.0;
+      for (int i = 0; i < lmp->atom->nlocal; i++)
+        for (int k = 0; k < 3; k++) fmax = std::max(fmax, std::abs(lmp->atom->f[i][k]));
+      EXPECT_LT(fmax, 1e-9 * blk.E / blk.dx) << style;
+      EXPECT_GT(lmp->force->pair->eng_vdwl, 0.0);
+      if (style == classical) expect_uniform(lmp, F0);
+    }
+    delete lmp;
+  }
   std::remove(rfile.c_str());
 }
 
