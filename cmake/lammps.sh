@@ -8,8 +8,9 @@
 #   3. a CMake build of LAMMPS with the packages we need, cached outside the
 #      clone and keyed by version and options.
 #
-# Usage: cmake/lammps.sh [deps|source|build|all|print-dir]
-# Prints nothing but the build directory on `print-dir`.
+# Usage: cmake/lammps.sh [deps|source|build|all|print-dir|print-src]
+# Prints nothing but the build directory on `print-dir`, the LAMMPS source
+# tree on `print-src`.
 # Environment:
 #   PERI_NOSPD_CACHE   cache root (default: $HOME/.cache/peri-nospd)
 #   LAMMPS_VERSION_PIN Debian upstream version to pin (default 20260704+dfsg)

@@ -24,7 +24,8 @@ from crack_tip import read_dump  # noqa: E402
 
 
 def main():
-    ap = argparse.ArgumentParser()
+    ap = argparse.ArgumentParser(description=__doc__,
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("dump")
     ap.add_argument("--tip", action="append", default=None, help="x,y in mm")
     ap.add_argument("--side", action="append", type=int, default=None)

@@ -69,7 +69,8 @@ def clusters(values, gap):
 
 
 def main():
-    ap = argparse.ArgumentParser()
+    ap = argparse.ArgumentParser(description=__doc__,
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("pattern")
     ap.add_argument("--timestep", type=float, required=True, help="MD time step (s)")
     ap.add_argument("--threshold", type=float, default=0.35)

@@ -21,7 +21,8 @@ from lammps_dump import damage_column, read_dump
 
 
 def main():
-    ap = argparse.ArgumentParser()
+    ap = argparse.ArgumentParser(description=__doc__,
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("dump")
     ap.add_argument("out")
     ap.add_argument("--title", default="")

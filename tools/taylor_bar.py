@@ -23,7 +23,8 @@ from lammps_dump import read_dump
 
 
 def main():
-    ap = argparse.ArgumentParser()
+    ap = argparse.ArgumentParser(description=__doc__,
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("dump")
     ap.add_argument("--spacing", type=float, default=0.381e-3)
     ap.add_argument("--check", default=None)
