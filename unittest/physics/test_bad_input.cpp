@@ -16,8 +16,9 @@ class BadInput : public ::testing::Test {
   void SetUp() override { lmp = open_lammps(); }
   void TearDown() override { delete lmp; }
 
-  // a valid 3D deck up to (not including) the pair style
-  void deck(const std::string &atom_style = "peri", bool map = true, const std::string &units = "si")
+  // a valid 3D deck up to (not including) the pair style, all atoms of type 1
+  void deck(const std::string &atom_style = "peri", bool map = true,
+            const std::string &units = "si", int ntypes = 1)
   {
     cmd(lmp, "units " + units);
     cmd(lmp, "boundary s s s");
@@ -25,7 +26,7 @@ class BadInput : public ::testing::Test {
     if (map) cmd(lmp, "atom_modify map array");
     cmd(lmp, "lattice sc 0.001");
     cmd(lmp, "region box block -0.25 5.25 -0.25 5.25 -0.25 5.25");
-    cmd(lmp, "create_box 1 box");
+    cmd(lmp, "create_box " + std::to_string(ntypes) + " box");
     cmd(lmp, "create_atoms 1 box");
     if (atom_style == "peri") {
       cmd(lmp, "set group all density 7850");
@@ -409,16 +410,7 @@ TEST_F(BadInput, BoundaryChangedAfterFamilies)
 // family was built with (its material may differ)
 TEST_F(BadInput, TypeChangedToOtherHorizon)
 {
-  cmd(lmp, "units si");
-  cmd(lmp, "boundary s s s");
-  cmd(lmp, "atom_style peri");
-  cmd(lmp, "atom_modify map array");
-  cmd(lmp, "lattice sc 0.001");
-  cmd(lmp, "region box block -0.25 5.25 -0.25 5.25 -0.25 5.25");
-  cmd(lmp, "create_box 3 box");
-  cmd(lmp, "create_atoms 1 box");
-  cmd(lmp, "set group all density 7850");
-  cmd(lmp, "set group all volume 1e-9");
+  deck("peri", true, "si", 3);
   cmd(lmp, "pair_style peri/nospd");
   cmd(lmp, "pair_coeff 1 1 200e9 0.3 0.003");
   cmd(lmp, "pair_coeff 2 2 70e9 0.33 0.003");
