@@ -1194,7 +1194,7 @@ void FixNospdBonds::update_shape_tensors()
         K(2, 2) = 1.0;
       }
       NOSPD::Mat3 Ki;
-      singular[i] = NOSPD::safe_inverse(K, dim, model.singular_tol, Ki) ? 0 : 1;
+      singular[i] = NOSPD::safe_inverse(K, dim, conditioning_tolerance(i), Ki) ? 0 : 1;
       NOSPD::store(Ki, kinv[i]);
       stale[i] = 0;
     }

@@ -27,6 +27,7 @@ struct NospdBondModel {
   int influence = CONSTANT;
   int dim = 3;
   double singular_tol = 1.0e-4;    // det K / (tr K/dim)^dim below this: singular
+  double damaged_tol = 0.1;        // the same for a family that lost bonds
   const int *active = nullptr;     // [ntypes+1]: 1 for the types the pair style owns
   double thickness = 1.0;          // 2D: the volumes are area x thickness
   // points closer than this fraction of their spacing (from the volume) are
@@ -174,6 +175,15 @@ class FixNospdBonds : public FixPeriNeigh {
   bigint nsingular;       // global count of singular families
   bigint nbonds_total, nbonds_broken;
   bigint nbonds_vanished;    // broken because the partner atom no longer exists
+
+  // the conditioning atom i's family must keep to be regular: the damaged
+  // tolerance once it has lost bonds (fewer intact than at its first build;
+  // bond arrays current)
+  double conditioning_tolerance(int i) const
+  {
+    return bond_first[i + 1] - bond_first[i] < family_size[i] ? model.damaged_tol
+                                                              : model.singular_tol;
+  }
 
   using FixPeriNeigh::npartner;
   using FixPeriNeigh::partner;

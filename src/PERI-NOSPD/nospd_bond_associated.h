@@ -67,6 +67,7 @@ struct BondPattern {
   int n = 0;                       // family size
   int dim = 3;
   double radius = 0.0;             // bond-associated horizon r = ratio * delta
+  double tol = 0.0;                // the conditioning its K's were tested against
   std::vector<double> b;           // reference offsets xi_k, 3 per slot, one spare double
   std::vector<double> w;           // omega_k V_k
   std::vector<int> run_first;      // runs of slot j: run_first[j] .. run_first[j+1]
@@ -137,6 +138,7 @@ inline void build_pattern(BondPattern &p, int dim, int n, const double *b_lex,
   p.n = n;
   p.dim = dim;
   p.radius = radius;
+  p.tol = tol;
   p.key = key_lex;
   p.lex_to_slot = boustrophedon(key_lex, n);
   const int nc = dim * dim;

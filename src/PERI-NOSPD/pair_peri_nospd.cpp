@@ -24,6 +24,7 @@
 #include "nospd_simd.h"
 #include "nospd_threads.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <vector>
@@ -61,7 +62,7 @@ static const char *law_keyword(Law law)
 PairPeriNospd::PairPeriNospd(LAMMPS *lmp) :
     Pair(lmp), fix_bonds(nullptr), strain_law(Law::SMALL), plane_mode(Plane::NONE),
     stab(Stab::SILLING), stab_param(0.5), influence(NospdBondModel::CONSTANT), thickness(1.0),
-    singular_tol(1.0e-4), youngs(nullptr), poisson(nullptr), g0(nullptr),
+    singular_tol(1.0e-4), damaged_tol(0.1), youngs(nullptr), poisson(nullptr), g0(nullptr),
     stab_scalar(nullptr), cut(nullptr), nmax_work(0), bmat(nullptr), tmat(nullptr),
     moments(nullptr), comm_tensors(1)
 {
@@ -133,8 +134,21 @@ void PairPeriNospd::allocate()
 void PairPeriNospd::settings(int narg, char **arg)
 {
   const std::string cmd = std::string("pair_style ") + force->pair_style;
+  // a pair_style command naming the style in place calls settings() again on
+  // the same instance: every keyword not given takes its default again, so
+  // that a line means the same model whatever came before it
+  strain_law = Law::SMALL;
+  plane_mode = Plane::NONE;
+  stab = Stab::SILLING;
+  stab_param = 0.5;
+  influence = NospdBondModel::CONSTANT;
+  thickness = 1.0;
+  singular_tol = 1.0e-4;
+  damaged_tol = 0.1;
+  temperature_kind = TEMP_NONE;
+  temperature_name.clear();
   int iarg = 0;
-  bool plane_given = false;
+  bool plane_given = false, singular_given = false, damaged_given = false;
   while (iarg < narg) {
     const std::string key = arg[iarg];
     auto need = [&](int n) {
@@ -190,11 +204,13 @@ void PairPeriNospd::settings(int narg, char **arg)
       thickness = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
       if (!(thickness > 0.0)) error->all(FLERR, "{}: thickness must be > 0, got {}", cmd, arg[iarg + 1]);
       iarg += 2;
-    } else if (key == "singular_tol") {
+    } else if (key == "singular_tol" || key == "damaged_tol") {
       need(1);
-      singular_tol = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
-      if (!(singular_tol > 0.0 && singular_tol < 1.0))
-        error->all(FLERR, "{}: singular_tol must be in (0,1), got {}", cmd, arg[iarg + 1]);
+      const double tol = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
+      if (!(tol > 0.0 && tol < 1.0))
+        error->all(FLERR, "{}: {} must be in (0,1), got {}", cmd, key, arg[iarg + 1]);
+      (key == "singular_tol" ? singular_tol : damaged_tol) = tol;
+      (key == "singular_tol" ? singular_given : damaged_given) = true;
       iarg += 2;
     } else if (key == "temperature") {
       need(1);
@@ -214,6 +230,10 @@ void PairPeriNospd::settings(int narg, char **arg)
       error->all(FLERR, "{}: unknown keyword '{}'{}", cmd, key,
                  (key == "form" || key == "ratio") ? " (a keyword of peri/nospd/hs)" : "");
   }
+  // a family that lost bonds is held to at least the intact families'
+  // tolerance; singular_tol alone sets both (one tolerance, as given)
+  if (!damaged_given && singular_given) damaged_tol = singular_tol;
+  damaged_tol = std::max(damaged_tol, singular_tol);
   if (domain->dimension == 3 && plane_given)
     error->all(FLERR, "{}: keyword plane applies to 2D only (dimension 2)", cmd);
   if (domain->dimension == 2 && !plane_given) plane_mode = Plane::STRAIN;
@@ -687,6 +707,7 @@ void PairPeriNospd::init_style()
   model.influence = influence;
   model.dim = dim;
   model.singular_tol = singular_tol;
+  model.damaged_tol = damaged_tol;
   model.active = active.data();
   model.thickness = thickness;
   wave_c.assign(atom->ntypes + 1, 0.0);
@@ -1315,9 +1336,9 @@ void PairPeriNospd::write_restart_settings(FILE *fp)
 {
   int iv[4] = {static_cast<int>(strain_law), static_cast<int>(plane_mode),
                static_cast<int>(stab), influence};
-  double dv[3] = {stab_param, thickness, singular_tol};
+  double dv[4] = {stab_param, thickness, singular_tol, damaged_tol};
   fwrite(iv, sizeof(int), 4, fp);
-  fwrite(dv, sizeof(double), 3, fp);
+  fwrite(dv, sizeof(double), 4, fp);
   int tv[2] = {static_cast<int>(temperature_kind), static_cast<int>(temperature_name.size())};
   fwrite(tv, sizeof(int), 2, fp);
   fwrite(temperature_name.data(), 1, tv[1], fp);
@@ -1328,13 +1349,13 @@ void PairPeriNospd::write_restart_settings(FILE *fp)
 void PairPeriNospd::read_restart_settings(FILE *fp)
 {
   int iv[4];
-  double dv[3];
+  double dv[4];
   if (comm->me == 0) {
     utils::sfread(FLERR, iv, sizeof(int), 4, fp, nullptr, error);
-    utils::sfread(FLERR, dv, sizeof(double), 3, fp, nullptr, error);
+    utils::sfread(FLERR, dv, sizeof(double), 4, fp, nullptr, error);
   }
   MPI_Bcast(iv, 4, MPI_INT, 0, world);
-  MPI_Bcast(dv, 3, MPI_DOUBLE, 0, world);
+  MPI_Bcast(dv, 4, MPI_DOUBLE, 0, world);
   int tv[2] = {0, 0};
   if (comm->me == 0) utils::sfread(FLERR, tv, sizeof(int), 2, fp, nullptr, error);
   MPI_Bcast(tv, 2, MPI_INT, 0, world);
@@ -1350,6 +1371,7 @@ void PairPeriNospd::read_restart_settings(FILE *fp)
   stab_param = dv[0];
   thickness = dv[1];
   singular_tol = dv[2];
+  damaged_tol = dv[3];
 }
 
 /* ---------------------------------------------------------------------- */

@@ -85,7 +85,8 @@ class PairPeriNospd : public Pair {
   int influence;         // NospdBondModel::Influence
   double thickness;      // 2D: thickness carried by the volumes
   std::vector<double> wave_c;    // per type: micromodulus for the time step estimate
-  double singular_tol;
+  double singular_tol;    // conditioning below which a family's K is singular
+  double damaged_tol;     // the same for a family that lost bonds
 
   // per type
   double *youngs, *poisson, *g0;

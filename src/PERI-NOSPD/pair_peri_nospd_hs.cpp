@@ -163,6 +163,10 @@ void PairPeriNospdHS::settings(int narg, char **arg)
   const std::string cmd = std::string("pair_style ") + force->pair_style;
   std::vector<char *> rest;
   bool stabilized = false;    // silling or hourglass given
+  // defaults again for a repeated pair_style command (see the base class)
+  hs_form = HSForm::II;
+  hs_ratio = 1.0;
+  stencil_on = true;
   int iarg = 0;
   while (iarg < narg) {
     const std::string key = arg[iarg];
@@ -922,6 +926,7 @@ void PairPeriNospdHS::map_stencils()
       if (!p.shape_hash) {
         std::vector<int64_t> key = p.key;
         for (double w : p.w) key.push_back(std::llround(std::log(w) * 1.0e9));
+        key.push_back(std::llround(std::log(p.tol) * 1.0e9));
         p.shape_hash = key_hash(key) | 1;
       }
       const uint64_t h = key_hash({(int64_t) p.shape_hash, (int64_t) type[i]});
@@ -1403,6 +1408,7 @@ int PairPeriNospdHS::match_pattern(int i, std::vector<uint16_t> &perm)
   const double delta = cut[atom->type[i]][atom->type[i]];
   const double radius = hs_ratio * delta;
   const double q = KEY_QUANTUM * delta;
+  const double tol = fix_bonds->conditioning_tolerance(i);    // stricter once damaged
 
   struct Item {
     int64_t k[3];    // z, y, x
@@ -1427,7 +1433,7 @@ int PairPeriNospdHS::match_pattern(int i, std::vector<uint16_t> &perm)
   auto range = pattern_lookup.equal_range(h);
   for (auto it = range.first; it != range.second && found < 0; ++it) {
     const BondPattern &p = patterns[it->second];
-    if (p.n != n || p.radius != radius || p.key != key) continue;
+    if (p.n != n || p.radius != radius || p.tol != tol || p.key != key) continue;
     bool same = true;
     for (int l = 0; same && l < n; l++) {
       const double wp = p.w[p.lex_to_slot[l]];
@@ -1447,7 +1453,7 @@ int PairPeriNospdHS::match_pattern(int i, std::vector<uint16_t> &perm)
     }
     patterns.emplace_back();
     NOSPD::build_pattern(patterns.back(), domain->dimension, n, b.data(), w.data(), vol.data(),
-                         key, radius, hs_form, singular_tol);
+                         key, radius, hs_form, tol);
     found = (int) patterns.size() - 1;
     pattern_lookup.emplace(h, found);
   }

@@ -4,6 +4,9 @@
 #include "nospd_test_util.h"
 
 #include "gmock/gmock.h"
+#include <cmath>
+#include <utility>
+#include <vector>
 
 using namespace nospdtest;
 using ::testing::HasSubstr;
@@ -304,6 +307,52 @@ TEST_F(BadInput, SingularTolOutOfRange)
 {
   deck();
   EXPECT_THAT(error_of(lmp, "pair_style peri/nospd singular_tol -1"), HasSubstr("singular_tol must be in (0,1), got -1"));
+}
+
+TEST_F(BadInput, DamagedTolOutOfRange)
+{
+  deck();
+  EXPECT_THAT(error_of(lmp, "pair_style peri/nospd damaged_tol 1"),
+              HasSubstr("damaged_tol must be in (0,1), got 1"));
+}
+
+/* A pair_style command naming the style already in place calls settings()
+   on the same instance (LAMMPS keeps it): every keyword the new line does
+   not give must take its default again, so that the line means what it
+   means in a fresh deck.  Each pair: a randomly displaced block's energy
+   under the second line, after a run under the first, against a fresh
+   deck with the second line only (each keyword here changes the energy;
+   the influence function changes the bond weights, which must be rebuilt). */
+TEST_F(BadInput, RepeatedPairStyleTakesDefaults)
+{
+  auto energy = [&](const std::string &first, const std::string &second) {
+    delete lmp;
+    lmp = open_lammps();
+    deck();
+    cmd(lmp, "displace_atoms all random 1e-6 1e-6 1e-6 4321 units box");
+    if (!first.empty()) {
+      cmd(lmp, "pair_style " + first);
+      cmd(lmp, "pair_coeff * * 200e9 0.3 0.003015");
+      cmd(lmp, "run 0 post no");
+    }
+    if (!second.empty()) {
+      cmd(lmp, "pair_style " + second);
+      cmd(lmp, "pair_coeff * * 200e9 0.3 0.003015");
+      cmd(lmp, "run 0 post no");
+    }
+    return potential_energy(lmp);
+  };
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"peri/nospd stabilization hourglass 0.2 strain finite", "peri/nospd"},
+      {"peri/nospd influence inverse", "peri/nospd"},
+      {"peri/nospd", "peri/nospd influence inverse"},
+      {"peri/nospd/hs form I ratio 1.5 stabilization silling 0.5", "peri/nospd/hs"}};
+  for (const auto &c : cases) {
+    const double fresh = energy("", c.second), other = energy(c.first, "");
+    const double after = energy(c.first, c.second);
+    ASSERT_GT(std::abs(other - fresh), 1e-3 * std::abs(fresh)) << c.first;    // they differ
+    EXPECT_NEAR(after, fresh, 1e-12 * std::abs(fresh)) << c.first << " then " << c.second;
+  }
 }
 
 TEST_F(BadInput, NegativeThickness)

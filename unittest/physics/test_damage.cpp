@@ -9,6 +9,8 @@
 
 #include "domain.h"
 #include "fix_nospd_bonds.h"
+#include "force.h"
+#include "pair.h"
 #include "nospd_constitutive.h"
 #include "nospd_damage.h"
 
@@ -750,45 +752,122 @@ TEST_F(Damage, ContactKeepsBodiesApart)
 }
 
 /* Fragmentation must not create energy: a steel plate with a clamped rim,
-   punched through by fix indent at 400 m/s with the settings the damage
-   fix's page gives for fragmenting runs (singular_tol 0.1, singular
-   detach, contact).  ke + pe + the indenter's energy never exceeds the
-   indenter's work (trapezoid sum of v F dt) by more than 1e-3 of it.  With
-   the default singular_tol 1e-4 the same run creates energy worth more
-   than the work (families left with nearly coplanar bonds; the page's
-   table), which this test then reports. */
+   punched through by fix indent at 400 m/s (singular detach, contact).
+   ke + pe + the indenter's energy never exceeds the indenter's work
+   (trapezoid sum of v F dt) by more than 1e-3 of it, with the default
+   tolerances (families that lost bonds held to damaged_tol 0.1), for the
+   classical style and for the bond-associated one with Silling's term.
+   With one tolerance of 1e-4 for every family (the default before
+   damaged_tol) the same run creates energy worth more than the work
+   (families left with nearly coplanar bonds; the damage fix's page), which
+   the last run shows this test can tell. */
 TEST_F(Damage, PunchThroughCreatesNoEnergy)
 {
-  for (const char *c : {"units si", "atom_style peri", "atom_modify map array",
-                        "boundary s s s", "lattice sc 0.001",
-                        "region box block 0 16 0 16 0 3", "create_box 1 box",
-                        "create_atoms 1 box", "set group all density 7850",
-                        "set group all volume 1e-9", "pair_style peri/nospd singular_tol 0.1",
-                        "pair_coeff * * 200e9 0.3 0.003015",
-                        "region rim block 1.5 14.5 1.5 14.5 INF INF side out",
-                        "group rim region rim", "group inner subtract all rim",
-                        "fix 1 inner nve",
-                        "fix d all nospd/damage stretch 0.01 contact yes singular detach",
-                        "variable zc equal 0.0075-400*time",
-                        "fix ind all indent 1e19 sphere 0.008 0.008 v_zc 0.004 units box",
-                        "timestep 2e-8", "compute ke all ke",
-                        "thermo_style custom step pe ke f_ind f_ind[3]", "run 0 post no"})
-    cmd(lmp, c);
-  auto *ke = lmp->modify->get_compute_by_id("ke");
-  auto *ind = lmp->modify->get_fix_by_id("ind");
-  auto energy = [&] { return ke->compute_scalar() + potential_energy(lmp) + ind->compute_scalar(); };
-  const double e0 = energy(), dt = 2e-8;
-  double work = 0.0, fz = ind->compute_vector(2), created = 0.0;
-  for (int k = 0; k < 200; k++) {
-    cmd(lmp, "run 5 post no");
-    const double fz_now = ind->compute_vector(2);
-    work += 400.0 * 0.5 * (fz + fz_now) * 5 * dt;
-    fz = fz_now;
-    created = std::max(created, energy() - e0 - work);
-  }
-  ASSERT_GT(work, 1.0e12);                          // the indenter did push through
-  ASSERT_GT(bonds()->compute_vector(1), 30000.0);    // and the plate broke
+  auto punch = [&](const std::string &style, double &work) {
+    delete lmp;
+    lmp = open_lammps();
+    for (const std::string &c : std::vector<std::string>
+         {"units si", "atom_style peri", "atom_modify map array", "boundary s s s",
+          "lattice sc 0.001", "region box block 0 16 0 16 0 3", "create_box 1 box",
+          "create_atoms 1 box", "set group all density 7850", "set group all volume 1e-9",
+          "pair_style " + style, "pair_coeff * * 200e9 0.3 0.003015",
+          "region rim block 1.5 14.5 1.5 14.5 INF INF side out", "group rim region rim",
+          "group inner subtract all rim", "fix 1 inner nve",
+          "fix d all nospd/damage stretch 0.01 contact yes singular detach",
+          "variable zc equal 0.0075-400*time",
+          "fix ind all indent 1e19 sphere 0.008 0.008 v_zc 0.004 units box", "timestep 2e-8",
+          "compute ke all ke", "thermo_style custom step pe ke f_ind f_ind[3]", "run 0 post no"})
+      cmd(lmp, c);
+    auto *ke = lmp->modify->get_compute_by_id("ke");
+    auto *ind = lmp->modify->get_fix_by_id("ind");
+    auto energy = [&] {
+      return ke->compute_scalar() + potential_energy(lmp) + ind->compute_scalar();
+    };
+    const double e0 = energy(), dt = 2e-8;
+    double fz = ind->compute_vector(2), created = 0.0;
+    work = 0.0;
+    for (int k = 0; k < 200; k++) {
+      cmd(lmp, "run 5 post no");
+      const double fz_now = ind->compute_vector(2);
+      work += 400.0 * 0.5 * (fz + fz_now) * 5 * dt;
+      fz = fz_now;
+      created = std::max(created, energy() - e0 - work);
+    }
+    EXPECT_GT(work, 1.0e12) << style;                           // the indenter pushed through
+    EXPECT_GT(bonds()->compute_vector(1), 30000.0) << style;    // and the plate broke
+    return created;
+  };
+  double work = 0.0, created = punch("peri/nospd", work);
   EXPECT_LT(created, 1.0e-3 * work);
+  created = punch("peri/nospd/hs stabilization silling 0.5", work);
+  EXPECT_LT(created, 1.0e-3 * work);
+  created = punch("peri/nospd singular_tol 1e-4", work);
+  EXPECT_GT(created, 0.5 * work);
+}
+
+/* The two tolerances of the conditioning test: an intact family is held to
+   singular_tol (default 1e-4), a family that lost bonds to damaged_tol
+   (default 0.1).  A one-layer plate with one point above its centre: the
+   centre's family has one bond out of the plane, conditioning about 0.03,
+   regular while intact; deleting one of its in-plane partners makes it
+   singular under the defaults, not with damaged_tol 0.01 nor with
+   singular_tol 1e-4 alone (which sets both), and singular_tol 0.07 makes
+   it singular even intact (its conditioning is 0.049 intact, 0.050 after
+   the cut). */
+TEST_F(Damage, DamagedFamiliesHeldToDamagedTol)
+{
+  auto centre_singular = [&](const std::string &style, bool cut) {
+    delete lmp;
+    lmp = open_lammps();
+    for (const std::string &c : std::vector<std::string>
+         {"units si", "atom_style peri", "atom_modify map array", "boundary s s s",
+          "lattice sc 0.001", "region box block -4.5 4.5 -4.5 4.5 -0.5 1.5",
+          "create_box 1 box", "region plate block INF INF INF INF -0.5 0.5",
+          "create_atoms 1 region plate", "create_atoms 1 single 0 0 1",
+          "set group all density 7850", "set group all volume 1e-9", "pair_style " + style,
+          "pair_coeff * * 200e9 0.3 0.003015", "run 0 post no"})
+      cmd(lmp, c);
+    if (cut) {
+      cmd(lmp, "region far sphere 0.002 0 0 0.0001 units box");
+      cmd(lmp, "delete_atoms region far");
+      cmd(lmp, "run 0 post no");
+    }
+    for (int i = 0; i < lmp->atom->nlocal; i++) {
+      double **x = lmp->atom->x;
+      if (std::abs(x[i][0]) + std::abs(x[i][1]) + std::abs(x[i][2]) < 1e-9)
+        return bonds()->singular[i];
+    }
+    ADD_FAILURE() << "no point at the centre";
+    return -1;
+  };
+  EXPECT_EQ(centre_singular("peri/nospd", false), 0);
+  EXPECT_EQ(centre_singular("peri/nospd", true), 1);
+  EXPECT_EQ(centre_singular("peri/nospd/hs", true), 1);
+  EXPECT_EQ(centre_singular("peri/nospd damaged_tol 0.01", true), 0);
+  EXPECT_EQ(centre_singular("peri/nospd singular_tol 1e-4", true), 0);
+  EXPECT_EQ(centre_singular("peri/nospd singular_tol 0.07", false), 1);
+
+
+  // the bond-associated style holds the bond-associated families of a point
+  // that lost bonds to damaged_tol too: in a block without its corner
+  // point, the thin bond-associated families (ratio 0.6) of the corner's
+  // partners fall back to their point's F (the count is the first value of compute pair)
+  auto fallbacks = [&](const std::string &style) {
+    delete lmp;
+    lmp = open_lammps();
+    for (const std::string &c : std::vector<std::string>
+         {"units si", "atom_style peri", "atom_modify map array", "boundary s s s",
+          "lattice sc 0.001", "region box block -0.5 7.5 -0.5 7.5 -0.5 7.5", "create_box 1 box",
+          "create_atoms 1 box", "set group all density 7850", "set group all volume 1e-9",
+          "pair_style " + style, "pair_coeff * * 200e9 0.3 0.003015", "run 0 post no",
+          "region corner sphere 0 0 0 0.1", "delete_atoms region corner", "run 0 post no"})
+      cmd(lmp, c);
+    return lmp->force->pair->pvector[0];
+  };
+  const double strict = fallbacks("peri/nospd/hs ratio 0.6"),
+               loose = fallbacks("peri/nospd/hs ratio 0.6 damaged_tol 1e-4");
+  EXPECT_GT(strict, 50.0);    // 111 of them
+  EXPECT_EQ(loose, 0.0);
 }
 
 /* Contact energy and virial.  During the collision of two plates the
