@@ -1390,6 +1390,13 @@ void FixNospdBonds::set_history_size(int n_atom, int n_bond)
   layout_history(MAX(n_atom, nhist_atom), MAX(n_bond, nhist_bond));
 }
 
+/* the pair style reads no history any more (its check let no plastic state
+   go): drop it, so that the run goes on as a fresh one would */
+void FixNospdBonds::drop_history()
+{
+  layout_history(0, 0);
+}
+
 /* ----------------------------------------------------------------------
    (re)lay the history rows out for n_atom values of the atom and n_bond
    per partner slot; values kept, new columns zero: the virgin state
@@ -1399,6 +1406,14 @@ void FixNospdBonds::layout_history(int n_atom, int n_bond)
 {
   const int slots = n_bond ? maxpartner : 0;
   if (n_atom == nhist_atom && n_bond == nhist_bond && slots == hist_slots) return;
+  if (n_atom + n_bond == 0) {    // none: the state of a fix that never had any
+    memory->destroy(history);
+    memory->destroy(history_trial);
+    history = history_trial = nullptr;
+    nhistory = nhist_atom = nhist_bond = hist_slots = 0;
+    maxexchange = maxpartner + 22;
+    return;
+  }
   const int n = n_atom + n_bond * slots;
   const int nmax = atom->nmax;
   double **h = nullptr, **t = nullptr;

@@ -134,6 +134,7 @@ class FixNospdBonds : public FixPeriNeigh {
   // each partner slot (maxpartner of them), which travel with their
   // partner when broken slots are dropped (migration, restart).
   void set_history_size(int n_atom, int n_bond = 0);
+  void drop_history();
   void trial_history_ready() { trial_ready = 1; }
   void commit_history();
   // the n_bond values of partner slot `slot` in a history row

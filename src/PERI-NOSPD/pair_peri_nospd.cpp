@@ -233,11 +233,30 @@ void PairPeriNospd::settings(int narg, char **arg)
   // a family that lost bonds is held to at least the intact families'
   // tolerance; singular_tol alone sets both (one tolerance, as given)
   if (!damaged_given && singular_given) damaged_tol = singular_tol;
+  if (damaged_given && damaged_tol < singular_tol)
+    error->all(FLERR, "{}: damaged_tol {} is below singular_tol {}: a family that lost bonds "
+               "is held to at least the intact families' tolerance", cmd, damaged_tol,
+               singular_tol);
   damaged_tol = std::max(damaged_tol, singular_tol);
   if (domain->dimension == 3 && plane_given)
     error->all(FLERR, "{}: keyword plane applies to 2D only (dimension 2)", cmd);
   if (domain->dimension == 2 && !plane_given) plane_mode = Plane::STRAIN;
   if (domain->dimension == 3) plane_mode = Plane::NONE;
+}
+
+/* ----------------------------------------------------------------------
+   Poisson's ratio against the plane and strain settings: at pair_coeff and
+   again at init, since a later pair_style line may change those settings
+------------------------------------------------------------------------- */
+
+void PairPeriNospd::check_poisson(const std::string &where, double nu) const
+{
+  if (!(nu > -1.0 && nu < 0.5) && plane_mode != Plane::STRESS)
+    error->all(FLERR, "{}: Poisson ratio nu must be in (-1, 0.5), got {}", where, nu);
+  if (!(nu > -1.0 && nu < 1.0))
+    error->all(FLERR, "{}: Poisson ratio nu must be in (-1, 1) in plane stress, got {}", where, nu);
+  if (plane_mode == Plane::STRESS && strain_law != Law::SMALL && !(nu < 0.5))
+    error->all(FLERR, "{}: finite-strain plane stress needs nu < 0.5, got {}", where, nu);
 }
 
 /* ----------------------------------------------------------------------
@@ -270,6 +289,7 @@ void PairPeriNospd::coeff(int narg, char **arg)
   NOSPD::FlowLaw fl;
   NOSPD::ThermalLaw th;
   NospdUserMaterials::Spec us;
+  bool thermal_ref_given = false;    // by a thermal keyword of the file or the line
   if (has_material) {
     std::vector<std::string> words;
     if (utils::is_double(arg[2])) {
@@ -280,17 +300,13 @@ void PairPeriNospd::coeff(int narg, char **arg)
       name = arg[3];
       read_material_file(arg[2], name, E, nu, G0, words);
       if (!words.empty())
-        parse_inelastic(words, fl, th, us, fmt::format("material {} in {}", name, arg[2]));
+        parse_inelastic(words, fl, th, us, thermal_ref_given,
+                        fmt::format("material {} in {}", name, arg[2]));
     }
     words.assign(arg + 5, arg + narg);
-    parse_inelastic(words, fl, th, us, cmd);
+    parse_inelastic(words, fl, th, us, thermal_ref_given, cmd);
     if (!(E > 0.0)) error->all(FLERR, "{}: Young's modulus E must be > 0, got {}", cmd, E);
-    if (!(nu > -1.0 && nu < 0.5) && plane_mode != Plane::STRESS)
-      error->all(FLERR, "{}: Poisson ratio nu must be in (-1, 0.5), got {}", cmd, nu);
-    if (!(nu > -1.0 && nu < 1.0))
-      error->all(FLERR, "{}: Poisson ratio nu must be in (-1, 1) in plane stress, got {}", cmd, nu);
-    if (plane_mode == Plane::STRESS && strain_law != Law::SMALL && !(nu < 0.5))
-      error->all(FLERR, "{}: finite-strain plane stress needs nu < 0.5, got {}", cmd, nu);
+    check_poisson(cmd, nu);
   }
 
   int count = 0, nmat = 0;
@@ -334,11 +350,26 @@ void PairPeriNospd::coeff(int narg, char **arg)
 
 void PairPeriNospd::parse_inelastic(const std::vector<std::string> &words, NOSPD::FlowLaw &fl,
                                     NOSPD::ThermalLaw &th, NospdUserMaterials::Spec &us,
-                                    const std::string &where) const
+                                    bool &thermal_ref_given, const std::string &where) const
 {
   using NOSPD::Hardening;
+  // the flow law: J2 (yield, hardening) and Johnson-Cook exclude each other
+  // within one list, in any order; a list that names either replaces the
+  // other law of an earlier list (the line's keywords override the file's)
+  auto has = [&](const char *kw) { return std::find(words.begin(), words.end(), kw) != words.end(); };
+  const bool has_jc = has("johnson_cook"), has_yield = has("yield");
+  if (has_jc && (has_yield || has("hardening")))
+    error->all(FLERR, "{}: johnson_cook excludes yield and hardening (A is the yield stress, "
+               "B and n the hardening)", where);
+  if (has_jc || (has_yield && fl.kind == Hardening::JOHNSON_COOK)) {
+    const double hkin = fl.Hkin;
+    fl = NOSPD::FlowLaw();
+    fl.Hkin = hkin;
+  }
+  if (has("hardening") && !has_yield && fl.kind == Hardening::JOHNSON_COOK)
+    error->all(FLERR, "{}: hardening applies to a yield stress (keyword yield); johnson_cook "
+               "has its own (B, n)", where);
   size_t k = 0;
-  bool thermal_ref_given = false;
   while (k < words.size()) {
     const std::string key = words[k];
     auto values = [&](size_t n) {
@@ -356,8 +387,6 @@ void PairPeriNospd::parse_inelastic(const std::vector<std::string> &words, NOSPD
     if (key == "yield") {
       const auto v = values(1);
       if (!(v[0] > 0.0)) error->all(FLERR, "{}: yield stress must be > 0, got {}", where, v[0]);
-      if (fl.kind == Hardening::JOHNSON_COOK && fl.active)
-        error->all(FLERR, "{}: yield and johnson_cook exclude each other (A is the yield stress)", where);
       fl.active = true;
       fl.sigma_y0 = v[0];
     } else if (key == "hardening") {
@@ -702,6 +731,11 @@ void PairPeriNospd::init_style()
   fix_bonds->adopt_style(family_kind());
   if (history_size) fix_bonds->set_history_size(history_size);
   check_history_law();
+  // no type reads history any more (the check let no plastic state go):
+  // keep none, as a fresh run would not (the hs style's families too)
+  bool reads_history = false;
+  for (int i = 1; i <= atom->ntypes; i++) reads_history = reads_history || has_history(i) || is_umat(i);
+  if (!reads_history && fix_bonds->nhistory) fix_bonds->drop_history();
   NospdBondModel model;
   model.horizon = cut;
   model.influence = influence;
@@ -710,6 +744,10 @@ void PairPeriNospd::init_style()
   model.damaged_tol = damaged_tol;
   model.active = active.data();
   model.thickness = thickness;
+  for (int i = 1; i <= atom->ntypes; i++)
+    if (active[i] && youngs[i] > 0.0)
+      check_poisson(fmt::format("pair_style {} (type {}'s material)", force->pair_style, i),
+                    poisson[i]);
   wave_c.assign(atom->ntypes + 1, 0.0);
   for (int i = 1; i <= atom->ntypes; i++)
     if (active[i])

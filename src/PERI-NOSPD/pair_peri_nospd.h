@@ -194,9 +194,10 @@ class PairPeriNospd : public Pair {
   double stabilization_energy(int i) const;
   void read_material_file(const std::string &file, const std::string &name, double &E,
                           double &nu, double &G0, std::vector<std::string> &extra);
+  void check_poisson(const std::string &where, double nu) const;
   void parse_inelastic(const std::vector<std::string> &words, NOSPD::FlowLaw &fl,
                        NOSPD::ThermalLaw &th, NospdUserMaterials::Spec &us,
-                       const std::string &where) const;
+                       bool &thermal_ref_given, const std::string &where) const;
   void point_stress(int i, NOSPD::Mat3 &F, NOSPD::Mat3 &P, double &W, const NOSPD::PointEnv &env);
   void umat_point(int i, const NOSPD::Mat3 &F, NOSPD::Mat3 &P, double &W);
   NOSPD::UmatPoint umat_env(int i) const;

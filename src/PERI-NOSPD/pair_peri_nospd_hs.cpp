@@ -143,6 +143,7 @@ PairPeriNospdHS::PairPeriNospdHS(LAMMPS *lmp) :
 
 PairPeriNospdHS::~PairPeriNospdHS()
 {
+  restore_ghost_cutoff();    // comm outlives the pair style (LAMMPS::destroy)
   delete[] pvector;
   memory->destroy(fghost);
   memory->destroy(vghost);
@@ -247,6 +248,19 @@ void PairPeriNospdHS::init_style()
 }
 
 /* ----------------------------------------------------------------------
+   give back the user's communication cutoff where this style raised it
+   and nobody changed it since (a later run without the stencil, another
+   pair style)
+------------------------------------------------------------------------- */
+
+void PairPeriNospdHS::restore_ghost_cutoff()
+{
+  if (cutghost_raised < 0.0) return;
+  if (comm->cutghostuser == cutghost_raised) comm->cutghostuser = cutghost_replaced;
+  cutghost_raised = cutghost_replaced = -1.0;
+}
+
+/* ----------------------------------------------------------------------
    The stencil reads the displacements within 2 delta of a point.  Ghosts
    reach delta plus the skin by default: the points within 2 delta of a
    subdomain's edge, or a periodic box's, would then take their families,
@@ -265,9 +279,12 @@ void PairPeriNospdHS::ghosts_for_stencil()
   }
   const bool edges =
       comm->nprocs > 1 || domain->xperiodic || domain->yperiodic || domain->zperiodic;
+  restore_ghost_cutoff();    // decided anew each run: the settings may have changed
   if (!stencil_on || !linear || !edges || user_law() || fix_bonds->nhistory > 0) return;
   const double need = 2.0 * delta_max + neighbor->skin;
   if (comm->get_comm_cutoff() >= need) return;
+  cutghost_replaced = comm->cutghostuser;
+  cutghost_raised = need;
   comm->cutghostuser = need;
   if (comm->me == 0)
     error->warning(FLERR,

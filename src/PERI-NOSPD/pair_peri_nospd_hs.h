@@ -177,6 +177,9 @@ class PairPeriNospdHS : public PairPeriNospd {
                             const double *h,
                             const std::map<double, std::pair<int, int>> &family_of);
   void ghosts_for_stencil();
+  void restore_ghost_cutoff();
+  // the user's comm cutoff this style replaced, and the value it set (-1: none)
+  double cutghost_replaced = -1.0, cutghost_raised = -1.0;
   void stencil_pass();
   void store_stencil_state(int i, const NOSPD::Stencil &st, const double *H, const double *Hbar);
 

@@ -3,6 +3,7 @@
 
 #include "nospd_test_util.h"
 
+#include "comm.h"
 #include "gmock/gmock.h"
 #include <cmath>
 #include <utility>
@@ -352,6 +353,59 @@ TEST_F(BadInput, RepeatedPairStyleTakesDefaults)
     const double after = energy(c.first, c.second);
     ASSERT_GT(std::abs(other - fresh), 1e-3 * std::abs(fresh)) << c.first;    // they differ
     EXPECT_NEAR(after, fresh, 1e-12 * std::abs(fresh)) << c.first << " then " << c.second;
+  }
+}
+
+TEST_F(BadInput, DamagedTolBelowSingularTol)
+{
+  deck();
+  EXPECT_THAT(error_of(lmp, "pair_style peri/nospd singular_tol 0.3 damaged_tol 0.2"),
+              HasSubstr("damaged_tol 0.2 is below singular_tol 0.3"));
+}
+
+/* Poisson's ratio is checked at pair_coeff against the plane and strain
+   settings of that moment, and again at the run: a later pair_style line
+   that changes them must not let an invalid material through */
+TEST_F(BadInput, PoissonCheckedAgainstLaterPairStyle)
+{
+  const std::vector<std::pair<double, std::pair<std::string, std::string>>> cases = {
+      {0.7, {"peri/nospd", "Poisson ratio nu must be in (-1, 0.5), got 0.7"}},
+      {0.6, {"peri/nospd plane stress strain finite", "finite-strain plane stress needs nu < 0.5"}}};
+  for (const auto &c : cases) {
+    delete lmp;
+    lmp = open_lammps();
+    Block b;
+    b.dim = 2;
+    b.n = 8;
+    b.settings = "plane stress";
+    b.nu = c.first;
+    make_block(lmp, b);
+    cmd(lmp, "run 0 post no");    // valid in small-strain plane stress
+    cmd(lmp, "pair_style " + c.second.first);
+    EXPECT_THAT(error_of(lmp, "run 0 post no"), HasSubstr(c.second.second)) << c.second.first;
+  }
+}
+
+/* The bond-associated style raises the communication cutoff for its
+   stencil (a periodic box); a later run without the stencil, or another
+   pair style, gets the user's cutoff back */
+TEST_F(BadInput, StencilCutoffGivenBack)
+{
+  for (const std::string next : {"peri/nospd", "peri/nospd/hs stencil no"}) {
+    delete lmp;
+    lmp = open_lammps();
+    Block b;
+    b.n = 10;
+    b.periodic = true;
+    b.style = "peri/nospd/hs";
+    make_block(lmp, b);
+    cmd(lmp, "comm_modify cutoff 0.0");
+    cmd(lmp, "run 0 post no");
+    EXPECT_GT(lmp->comm->cutghostuser, 2.0 * b.delta()) << next;    // raised
+    cmd(lmp, "pair_style " + next);
+    cmd(lmp, "pair_coeff * * 200e9 0.3 " + num(b.delta()));
+    cmd(lmp, "run 0 post no");
+    EXPECT_EQ(lmp->comm->cutghostuser, 0.0) << next;
   }
 }
 

@@ -13,6 +13,10 @@
 #include "nospd_plasticity.h"
 
 #include "domain.h"
+#include "fix_nospd_bonds.h"
+#include "force.h"
+#include "modify.h"
+#include "pair.h"
 #include "min.h"
 #include "variable.h"
 
@@ -557,6 +561,56 @@ class InelasticBadInput : public ::testing::Test {
     return error_of(lmp, "pair_coeff * * 200e9 0.3 0.003 " + extra);
   }
 };
+
+/* johnson_cook excludes yield and hardening within one list in any order
+   (once, yield after johnson_cook was an error while johnson_cook after
+   yield silently dropped the yield, and hardening silently replaced B, n) */
+TEST_F(InelasticBadInput, JohnsonCookExcludesYieldInAnyOrder)
+{
+  const std::string jc = "johnson_cook 300e6 500e6 0.3 0.01 1.0 1.0 250 1800";
+  for (const std::string &extra : {"yield 250e6 " + jc, jc + " yield 250e6",
+                                   jc + " hardening linear 0", jc + " hardening power 1e9 0.5"}) {
+    delete lmp;
+    lmp = open_lammps();
+    EXPECT_THAT(coeff_error("", extra), HasSubstr("johnson_cook excludes yield and hardening"))
+        << extra;
+  }
+}
+
+/* A type made elastic again (no plastic flow yet) leaves no history behind:
+   the run goes on as a fresh elastic one, with the same energy and, in the
+   bond-associated style, the same points on the stencil (which history
+   would switch off) */
+TEST_F(InelasticBadInput, ElasticAgainDropsHistory)
+{
+  for (const std::string style : {"peri/nospd", "peri/nospd/hs"}) {
+    auto run = [&](bool plastic_first, int &nhist, double &stencil) {
+      delete lmp;
+      lmp = open_lammps();
+      Block b;
+      b.n = 10;
+      b.style = style;
+      make_block(lmp, b);
+      cmd(lmp, "displace_atoms all random 1e-6 1e-6 1e-6 4321 units box");
+      if (plastic_first) {
+        cmd(lmp, "pair_coeff * * 200e9 0.3 " + num(b.delta()) + " yield 250e6");
+        cmd(lmp, "run 0 post no");
+        cmd(lmp, "pair_coeff * * 200e9 0.3 " + num(b.delta()));
+      }
+      cmd(lmp, "run 0 post no");
+      nhist = static_cast<LAMMPS_NS::FixNospdBonds *>(
+                  lmp->modify->get_fix_by_id("NOSPD_BONDS"))->nhistory;
+      stencil = style == "peri/nospd/hs" ? lmp->force->pair->pvector[1] : 0.0;
+      return potential_energy(lmp);
+    };
+    int nh_fresh = 0, nh_again = 0;
+    double st_fresh = 0.0, st_again = 0.0;
+    const double fresh = run(false, nh_fresh, st_fresh), again = run(true, nh_again, st_again);
+    EXPECT_EQ(nh_again, 0) << style;
+    EXPECT_EQ(st_again, st_fresh) << style;
+    EXPECT_NEAR(again, fresh, 1e-12 * std::abs(fresh)) << style;
+  }
+}
 
 TEST_F(InelasticBadInput, NonPositiveYield)
 {
