@@ -1370,8 +1370,14 @@ void PairPeriNospd::read_restart(FILE *fp)
 
 /* ---------------------------------------------------------------------- */
 
+// first value of the settings in a restart file: the layout of what follows
+// (files written before it existed start with the strain law, 0..8)
+static constexpr int RESTART_LAYOUT = 0x4e530002;
+
 void PairPeriNospd::write_restart_settings(FILE *fp)
 {
+  const int layout = RESTART_LAYOUT;
+  fwrite(&layout, sizeof(int), 1, fp);
   int iv[4] = {static_cast<int>(strain_law), static_cast<int>(plane_mode),
                static_cast<int>(stab), influence};
   double dv[4] = {stab_param, thickness, singular_tol, damaged_tol};
@@ -1386,6 +1392,13 @@ void PairPeriNospd::write_restart_settings(FILE *fp)
 
 void PairPeriNospd::read_restart_settings(FILE *fp)
 {
+  int layout = 0;
+  if (comm->me == 0) utils::sfread(FLERR, &layout, sizeof(int), 1, fp, nullptr, error);
+  MPI_Bcast(&layout, 1, MPI_INT, 0, world);
+  if (layout != RESTART_LAYOUT)
+    error->all(FLERR, "read_restart: the {} settings in this file were written by an older "
+               "PERI-NOSPD plugin, whose layout this one cannot read: write the file again "
+               "with this plugin", force->pair_style);
   int iv[4];
   double dv[4];
   if (comm->me == 0) {
