@@ -21,6 +21,7 @@
 #include "variable.h"
 
 #include "gmock/gmock.h"
+#include <fstream>
 
 #include <Eigen/Geometry>
 
@@ -610,6 +611,41 @@ TEST_F(InelasticBadInput, ElasticAgainDropsHistory)
     EXPECT_EQ(st_again, st_fresh) << style;
     EXPECT_NEAR(again, fresh, 1e-12 * std::abs(fresh)) << style;
   }
+}
+
+/* The type's T_ref is that of *thermal* if given, in the material file or
+   on the line: a johnson_cook on the pair_coeff line (its own T_ref 250 K)
+   must not replace a file entry's thermal T_ref (300 K).  A stretched block
+   at 300 K: the file entry plus the line equals the same keywords on one
+   line; with T_ref 250 the thermal strain alpha 50 K would show. */
+TEST_F(InelasticBadInput, ThermalRefOfFileKept)
+{
+  const std::string file = "nospd_thermal_ref_test.nospd";    // in the build folder
+  {
+    std::ofstream out(file);
+    out << "# DATE: 2026-11-27 UNITS: si CONTRIBUTOR: test\n"
+        << "mythermal 200e9 0.3 7850 0 thermal 1e-5 300\n";
+  }
+  const std::string jc = " johnson_cook 300e6 500e6 0.3 0.01 1.0 1.0 250 1800";
+  auto energy = [&](const std::string &coeff) {
+    delete lmp;
+    lmp = open_lammps();
+    Block b;
+    b.n = 8;
+    make_block(lmp, b);
+    cmd(lmp, "fix T all property/atom d_T");
+    cmd(lmp, "set group all d_T 300");
+    cmd(lmp, "pair_style peri/nospd temperature d_T");
+    cmd(lmp, "pair_coeff * * " + coeff);
+    cmd(lmp, "displace_atoms all ramp x 0 4e-5 x 0 0.008 units box");
+    cmd(lmp, "run 0 post no");
+    return potential_energy(lmp);
+  };
+  const double both = energy(file + " mythermal 0.003015" + jc),
+               one_line = energy("200e9 0.3 0.003015 thermal 1e-5 300" + jc),
+               ref250 = energy("200e9 0.3 0.003015 thermal 1e-5 250" + jc);
+  ASSERT_GT(std::abs(ref250 - one_line), 1e-3 * one_line);    // T_ref shows
+  EXPECT_NEAR(both, one_line, 1e-12 * one_line);
 }
 
 TEST_F(InelasticBadInput, NonPositiveYield)
