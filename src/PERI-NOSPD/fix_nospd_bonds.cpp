@@ -182,6 +182,10 @@ void FixNospdBonds::setup_post_neighbor()
   }
   check_horizons();
   if (!built_now) check_family_types();
+  // from here on the atom's history is its type's (set type between runs is
+  // checked against this: horizons here, laws by the pair style's init)
+  for (int i = 0; i < atom->nlocal; i++)
+    if (family_type[i] > 0) family_type[i] = atom->type[i];
   check_periodicity(built_now);
   // also after a restart, where build_families() does not run
   maxexchange = maxpartner + 22 + nhistory;
@@ -342,9 +346,10 @@ void FixNospdBonds::adopt_box_of_creation()
 }
 
 /* ----------------------------------------------------------------------
-   an atom whose type changed since its family was built (set type) takes
-   the new type's material; its family keeps the old type's horizon, which
-   must then be the new one's
+   an atom whose type changed since the last setup (set type) takes the
+   new type's material; its family keeps the old type's horizon (that of
+   the type it was built with, checked at each change), which must then be
+   the new one's
 ------------------------------------------------------------------------- */
 
 void FixNospdBonds::check_family_types()
@@ -372,7 +377,7 @@ void FixNospdBonds::check_family_types()
   if (first_all == MAXBIGINT) return;
   if (first_bad != first_all) info[0] = info[1] = 0;
   MPI_Allreduce(info, info_all, 2, MPI_INT, MPI_MAX, world);
-  error->all(FLERR, "Fix {}: atom {} has type {} but its family was built as type {}, whose "
+  error->all(FLERR, "Fix {}: atom {} has type {} but had type {} in the last run, whose "
              "horizons differ: families are not rebuilt; set the type before the first run, or "
              "give both types the same horizons", id, first_all, info_all[0], info_all[1]);
 }
@@ -977,11 +982,12 @@ std::string FixNospdBonds::unstable_cause() const
 
 /* ----------------------------------------------------------------------
    Atom IDs renumbered since the families were stored (delete_atoms with
-   its default `compress yes`): partner lists hold the old
-   IDs.  Every atom's (old, new) pair goes round the ranks once; each rank
-   translates the partners it holds.  A partner whose old ID no atom
-   carries any more was deleted: its bond is broken (resolve_missing would
-   not see it, since its old ID may now belong to another atom).
+   its default `compress yes`), or atoms created since: partner lists hold
+   the old IDs.  Every old atom's (old, new) pair goes round the ranks
+   once; each rank translates the partners it holds.  A partner whose old
+   ID no old atom carries any more was deleted: its bond is broken
+   (resolve_missing would not see it, since its old ID may now belong to
+   another atom, a new one included).
 ------------------------------------------------------------------------- */
 
 namespace {
@@ -1007,14 +1013,16 @@ void FixNospdBonds::follow_renumbered_tags()
 {
   const int nlocal = atom->nlocal;
   const tagint *tag = atom->tag;
-  int changed = 0;
+  int flags[2] = {0, 0}, anyflags[2] = {0, 0};    // renumbered, created
   for (int i = 0; i < nlocal; i++) {
-    if (own_tag[i] == 0) own_tag[i] = tag[i];    // created after the families
-    if (own_tag[i] != tag[i]) changed = 1;
+    if (own_tag[i] == 0)
+      flags[1] = 1;    // created after the families: in no family
+    else if (own_tag[i] != tag[i])
+      flags[0] = 1;
   }
-  int anychanged = 0;
-  MPI_Allreduce(&changed, &anychanged, 1, MPI_INT, MPI_MAX, world);
-  if (!anychanged) return;
+  MPI_Allreduce(flags, anyflags, 2, MPI_INT, MPI_MAX, world);
+  const bool renumbered = anyflags[0], created = anyflags[1];
+  if (!renumbered && !created) return;
 
   Renumbering r;
   for (int i = 0; i < nlocal; i++)
@@ -1022,11 +1030,17 @@ void FixNospdBonds::follow_renumbered_tags()
       if (partner[i][n]) r.slots.push_back({partner[i][n], {i, n}});
   std::sort(r.slots.begin(), r.slots.end());
   r.newtag.assign(r.slots.size(), 0);
-  std::vector<std::pair<tagint, tagint>> ids(nlocal);
-  for (int i = 0; i < nlocal; i++) ids[i] = {own_tag[i], tag[i]};
+  // only atoms that were there when the partner IDs were written: a new
+  // atom may carry the ID of a deleted one (LAMMPS hands out the largest ID
+  // left plus one, and delete_atoms compress yes frees IDs), and must not
+  // inherit its bonds
+  std::vector<std::pair<tagint, tagint>> ids;
+  ids.reserve(nlocal + 1);
+  for (int i = 0; i < nlocal; i++)
+    if (own_tag[i]) ids.push_back({own_tag[i], tag[i]});
   std::sort(ids.begin(), ids.end());
   static_assert(sizeof(std::pair<tagint, tagint>) == 2 * sizeof(tagint), "packed ID pairs");
-  comm->ring(nlocal, 2 * sizeof(tagint), ids.data(), 0, translate_ids, nullptr, &r);
+  comm->ring((int) ids.size(), 2 * sizeof(tagint), ids.data(), 0, translate_ids, nullptr, &r);
 
   int ngone = 0;
   for (size_t k = 0; k < r.slots.size(); k++) {
@@ -1042,9 +1056,9 @@ void FixNospdBonds::follow_renumbered_tags()
   MPI_Allreduce(&one, &all, 1, MPI_LMP_BIGINT, MPI_SUM, world);
   nbonds_vanished += all;
   if (comm->me == 0) {
-    error->warning(FLERR, "Fix {}: atom IDs were renumbered since the bond families were built "
-                   "(delete_atoms compress yes): the families follow the new IDs",
-                   style);
+    if (renumbered)
+      error->warning(FLERR, "Fix {}: atom IDs were renumbered since the bond families were "
+                     "built (delete_atoms compress yes): the families follow the new IDs", style);
     if (all)
       error->warning(FLERR, "Fix {}: {} bonds broken: their partner atoms no longer exist "
                      "(delete_atoms, or atoms lost under thermo_modify lost ignore)", style, all);

@@ -148,6 +148,9 @@ class FixNospdBonds : public FixPeriNeigh {
   // per type, the law whose state the history holds (the pair style's
   // code; empty after a restart)
   std::vector<int> history_law;
+  // the type an atom had at the last setup, under whose law its history was
+  // written (0: created since, no family)
+  int type_of_history(int i) const { return family_type[i]; }
 
   // ---- state read by pair styles, computes and the damage fix ----
   int nbond_atoms;        // owned atoms covered by the CSR arrays (-1: atoms
@@ -240,7 +243,7 @@ class FixNospdBonds : public FixPeriNeigh {
   std::vector<double> dt_reported;    // per type, the estimate last logged
   double dt_checked = -1.0;           // the time step last checked against it
   tagint *own_tag;    // the atom's ID when its partners' IDs were last written
-  int *family_type;   // the atom's type when its family was built (0: unknown)
+  int *family_type;   // the atom's type at the last setup (0: no family)
   void check_family_types();
   bool count_bonds_pending = false;
   void compact_bond_arrays();

@@ -820,26 +820,47 @@ void PairPeriNospd::check_history_law()
   for (int t = 1; t <= ntypes; t++)
     if (active[t] && inelastic[t] != POINT_ELASTIC) now[t] = 1 + static_cast<int>(strain_law);
   if ((int) last.size() == ntypes + 1 && fix_bonds->nhistory) {
-    std::vector<int> carries(ntypes + 1, 0), carries_all(ntypes + 1, 0);
+    // the lowest ID of an atom whose plastic state the law it has now would
+    // not read: its type's law changed (pair_coeff), or the atom changed
+    // type (set type) to one of another law
     const int *type = atom->type;
+    const tagint *tag = atom->tag;
     double **h = fix_bonds->history;
+    bigint first = MAXBIGINT;
+    int info[2] = {0, 0}, info_all[2];    // the atom's type then and now
     for (int i = 0; i < atom->nlocal; i++) {
       const int t = type[i];
-      if (!active[t] || !last[t] || last[t] == now[t] || carries[t]) continue;
-      const int n = last[t] >= umat_code ? fix_bonds->nhist_atom : NOSPD::Hist::BACK + 6;
-      for (int k = 0; k < n && !carries[t]; k++) carries[t] = (h[i][k] != 0.0);
+      int was = fix_bonds->type_of_history(i);
+      if (was <= 0 || was > ntypes) was = t;
+      if (!active[t] || !last[was] || last[was] == now[t] || tag[i] >= first) continue;
+      const int n = last[was] >= umat_code ? fix_bonds->nhist_atom : NOSPD::Hist::BACK + 6;
+      for (int k = 0; k < n; k++)
+        if (h[i][k] != 0.0) {
+          first = tag[i];
+          info[0] = was, info[1] = t;
+          break;
+        }
     }
-    MPI_Allreduce(carries.data(), carries_all.data(), ntypes + 1, MPI_INT, MPI_MAX, world);
-    auto law_name = [&](int code) -> std::string {
-      if (!code) return "an elastic law";
-      if (code >= umat_code) return "a UMAT";
-      return fmt::format("plasticity under strain {}", law_keyword(static_cast<Law>(code - 1)));
-    };
-    for (int t = 1; t <= ntypes; t++)
-      if (carries_all[t])
+    bigint first_all;
+    MPI_Allreduce(&first, &first_all, 1, MPI_LMP_BIGINT, MPI_MIN, world);
+    if (first_all != MAXBIGINT) {
+      if (first != first_all) info[0] = info[1] = 0;
+      MPI_Allreduce(info, info_all, 2, MPI_INT, MPI_MAX, world);
+      const int was = info_all[0], t = info_all[1];
+      auto law_name = [&](int code) -> std::string {
+        if (!code) return "an elastic law";
+        if (code >= umat_code) return "a UMAT";
+        return fmt::format("plasticity under strain {}", law_keyword(static_cast<Law>(code - 1)));
+      };
+      if (was == t)
         error->all(FLERR, "pair_coeff {} {}: the atoms of type {} carry plastic state from {} "
                    "of an earlier run, which {} would not read: keep the type's law", t, t, t,
                    law_name(last[t]), law_name(now[t]));
+      error->all(FLERR, "set type: atom {} changed from type {} to type {} after an earlier run "
+                 "and carries plastic state from {} (type {}), which {} (type {}) would not "
+                 "read: give it a type of the same law", first_all, was, t, law_name(last[was]),
+                 was, law_name(now[t]), t);
+    }
   }
   last.resize(ntypes + 1, 0);
   for (int t = 1; t <= ntypes; t++)

@@ -527,7 +527,7 @@ TEST_F(BadInput, TypeChangedToOtherHorizon)
   EXPECT_EQ(error_of(lmp, "run 0"), "");
   cmd(lmp, "set region half type 3");
   EXPECT_THAT(error_of(lmp, "run 0"),
-              HasSubstr("has type 3 but its family was built as type 1, whose horizons differ"));
+              HasSubstr("has type 3 but had type 2 in the last run, whose horizons differ"));
 }
 
 TEST_F(BadInput, DamageSecondCriterion)

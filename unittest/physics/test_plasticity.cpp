@@ -775,6 +775,38 @@ TEST_F(InelasticBadInput, PlasticStateKeepsItsLaw)
   EXPECT_THAT(error_of(lmp, "run 0"), HasSubstr("which plasticity under strain hencky would not"));
 }
 
+// The same rule for an atom that changes type: `set type` between runs to a
+// type of another law is refused as a pair_coeff changing its type's law
+// is (before, the atoms' plastic strain was silently dropped: pe 58 times
+// higher at the same positions); to a type of the same law it is allowed,
+// and after a run under the new type the atom's history is that type's.
+TEST_F(InelasticBadInput, SetTypeKeepsThePlasticLaw)
+{
+  Block b;
+  b.n = 5;
+  b.settings = "strain small";
+  make_block(lmp, b);
+  const std::string coeff = " 200e9 0.3 0.00301";    // the block's horizon, 1-2 too
+  cmd(lmp, "pair_coeff 1 1" + coeff + " yield 1e8");
+  cmd(lmp, "pair_coeff 2 2" + coeff);
+  cmd(lmp, "run 0");
+  cmd(lmp, "change_box all x scale 1.01 remap units box");
+  cmd(lmp, "run 1");    // yields, and the step is accepted
+  cmd(lmp, "set atom 3 type 2");
+  EXPECT_THAT(error_of(lmp, "run 0"),
+              HasSubstr("set type: atom 3 changed from type 1 to type 2 after an earlier run and "
+                        "carries plastic state from plasticity under strain small (type 1), "
+                        "which an elastic law (type 2) would not read"));
+  cmd(lmp, "set atom 3 type 1");
+  cmd(lmp, "pair_coeff 2 2" + coeff + " yield 2e8");
+  cmd(lmp, "set atom 3 type 2");
+  EXPECT_EQ(error_of(lmp, "run 0"), "");
+  // type 2 keeps its law: atom 3's history is now type 2's, which may not
+  // become elastic, while type 1 may
+  cmd(lmp, "pair_coeff 2 2" + coeff);
+  EXPECT_THAT(error_of(lmp, "run 0"), HasSubstr("pair_coeff 2 2: the atoms of type 2 carry"));
+}
+
 // A restart holds what the families were built with: the same changes of
 // law or horizon that a continued session refuses are refused after
 // read_restart, and a restart read under the other pair style starts new

@@ -25,6 +25,7 @@
 using namespace nospdtest;
 using LAMMPS_NS::FixNospdBonds;
 using LAMMPS_NS::bigint;
+using LAMMPS_NS::tagint;
 using ::testing::HasSubstr;
 
 namespace {
@@ -353,6 +354,87 @@ TEST(RobustnessCreate, NewAtomsGetNoFamily)
   EXPECT_GT(fmax, 0.0);
   EXPECT_LT(diff, 1e-12 * fmax);
   delete lmp;
+}
+
+/* ----------------------------------------------------------------------
+   delete_atoms and create_atoms between two runs: LAMMPS may give a new
+   atom the ID of a deleted one (the largest ID left plus one; compress yes
+   frees IDs).  The new atom must not inherit the deleted atom's bonds: the
+   body is the one where a run 0 separated the two commands, on every rank
+   count (before the fix the new atom took over the 28 bonds of atom 216, 1.8
+   mm away, felt none of their forces, and on two ranks the run stopped
+   with a bond "beyond the ghost cutoff").
+------------------------------------------------------------------------- */
+
+namespace {
+struct Refilled {
+  bigint bonds, vanished;
+  int new_atom_bonds;
+  std::map<tagint, std::array<double, 3>> force;
+};
+
+Refilled refill(const std::string &compress, bool run_between)
+{
+  LAMMPS *lmp = open_lammps();
+  cmd(lmp, "units si");
+  cmd(lmp, "atom_style peri");
+  cmd(lmp, "atom_modify map array");
+  cmd(lmp, "boundary s s f");
+  cmd(lmp, "lattice sc 0.0005");
+  cmd(lmp, "region box block -0.25 5.75 -0.25 5.75 -0.25 7.75");
+  cmd(lmp, "create_box 1 box");
+  cmd(lmp, "region body block -0.25 5.75 -0.25 5.75 -0.25 5.75");
+  cmd(lmp, "create_atoms 1 region body");
+  cmd(lmp, "set group all density 2200");
+  cmd(lmp, "set group all volume 1.25e-10");
+  cmd(lmp, "pair_style peri/nospd");
+  cmd(lmp, "pair_coeff * * 40e9 0.3 0.0015001");
+  cmd(lmp, "displace_atoms all ramp z 0.0 1e-6 z 0.0 0.003 units box");
+  cmd(lmp, "run 0");
+  // the atom of the largest ID (216, a corner) and, with compress yes, a
+  // second one (7) so that IDs are renumbered as well
+  cmd(lmp, compress == "yes" ? "group gone id 7 216" : "group gone id 216");
+  cmd(lmp, "delete_atoms group gone compress " + compress);
+  if (run_between) cmd(lmp, "run 0");
+  cmd(lmp, "create_atoms 1 single 0.0015 0.0015 0.0036 units box");
+  const tagint newtag = lmp->atom->map_tag_max;
+  cmd(lmp, "set atom " + std::to_string(newtag) + " density 2200");
+  cmd(lmp, "set atom " + std::to_string(newtag) + " volume 1.25e-10");
+  cmd(lmp, "run 0");
+  auto *fb = bonds(lmp);
+  Refilled r{fb->nbonds_total, (bigint) fb->compute_vector(4), -1, {}};
+  for (int i = 0; i < lmp->atom->nlocal; i++) {
+    const tagint t = lmp->atom->tag[i];
+    if (t == newtag) r.new_atom_bonds = fb->bond_first[i + 1] - fb->bond_first[i];
+    r.force[t] = {lmp->atom->f[i][0], lmp->atom->f[i][1], lmp->atom->f[i][2]};
+  }
+  delete lmp;
+  return r;
+}
+}    // namespace
+
+TEST(RobustnessCreate, NewAtomWithADeletedAtomsIdGetsNoBonds)
+{
+  for (const std::string compress : {"no", "yes"}) {
+    SCOPED_TRACE("delete_atoms compress " + compress);
+    const auto apart = refill(compress, true);
+    const auto together = refill(compress, false);
+    EXPECT_EQ(together.new_atom_bonds, 0);
+    EXPECT_EQ(together.bonds, apart.bonds);
+    EXPECT_EQ(together.vanished, apart.vanished);
+    EXPECT_GT(together.vanished, 0);
+    ASSERT_EQ(together.force.size(), apart.force.size());
+    double fmax = 0.0, diff = 0.0;
+    for (const auto &[t, f] : apart.force) {
+      const auto &g = together.force.at(t);
+      for (int k = 0; k < 3; k++) {
+        fmax = std::max(fmax, std::abs(f[k]));
+        diff = std::max(diff, std::abs(f[k] - g[k]));
+      }
+    }
+    EXPECT_GT(fmax, 0.0);
+    EXPECT_LT(diff, 1e-12 * fmax);
+  }
 }
 
 /* ----------------------------------------------------------------------
