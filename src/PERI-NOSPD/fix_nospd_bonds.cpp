@@ -24,6 +24,7 @@
 static constexpr int NOSPD_HIST_WORK = NOSPD::Hist::WORK;
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <map>
@@ -101,7 +102,14 @@ void FixNospdBonds::clear_atom(int i)
 
 FixNospdBonds::~FixNospdBonds()
 {
-  // clear and exit delete update first; a pair_style command does not
+  // clear and exit delete update first; a pair_style command does not: it
+  // heals the damage and drops the plastic state, which a user should hear
+  if (lmp->update && !first && (nbonds_broken > 0 || nhistory) && comm->me == 0)
+    error->warning(FLERR, "Fix {}: a new pair_style discards the bond families{}{}: the next run "
+                   "builds new, intact ones from the reference positions", style,
+                   nbonds_broken > 0 ? fmt::format(" with their {} broken bonds", nbonds_broken)
+                                     : std::string(),
+                   nhistory ? " and the plastic state" : "");
   if (lmp->update && ref_box_set && built_periodic > 0 && x0_print_set) {
     ReplacedBox &r = replaced_boxes[lmp];
     std::copy(ref_h, ref_h + 6, r.ref_h);
@@ -656,6 +664,8 @@ void FixNospdBonds::build_families()
     }
   }
 
+  warn_unbonded_reference_pairs();
+
   int mymax = 0;
   for (int i = 0; i < nlocal; i++) {
     auto &f = fam[i];
@@ -692,6 +702,82 @@ void FixNospdBonds::build_families()
     }
   }
   maxexchange = maxpartner + 22 + nhistory;
+}
+
+/* ----------------------------------------------------------------------
+   Families take their candidates from a neighbor list of the current
+   positions (as PERI's do): two atoms within the horizon in their
+   reference positions but farther apart now than the neighbor cutoff
+   (horizon + skin) are not bonded.  That keeps apart bodies placed with
+   displace_atoms before the first run, but also drops the bonds of a body
+   deformed before it by more than the skin across a bond.  Such pairs are
+   counted here (owned and ghost atoms, each pair once, by the x0 cells of
+   the largest horizon) and reported, so the omission is never silent.
+------------------------------------------------------------------------- */
+
+void FixNospdBonds::warn_unbonded_reference_pairs()
+{
+  const int nlocal = atom->nlocal, nall = nlocal + atom->nghost;
+  const int *type = atom->type;
+  const tagint *tag = atom->tag;
+  double **x = atom->x;
+  const int *active = model.active;
+  double **horizon = model.horizon;
+  double cell = 0.0;
+  for (int a = 1; a <= atom->ntypes; a++)
+    for (int b = 1; b <= atom->ntypes; b++)
+      if (!active || (active[a] && active[b])) cell = std::max(cell, horizon[a][b]);
+  if (!(cell > 0.0)) return;
+
+  using Key = std::array<long, 3>;
+  std::vector<std::pair<Key, int>> cells;
+  cells.reserve(nall);
+  for (int k = 0; k < nall; k++)
+    if (!active || active[type[k]])
+      cells.push_back({{(long) std::floor(x0s[k][0] / cell), (long) std::floor(x0s[k][1] / cell),
+                        (long) std::floor(x0s[k][2] / cell)}, k});
+  std::sort(cells.begin(), cells.end());
+  auto by_key = [](const std::pair<Key, int> &e, const Key &c) { return e.first < c; };
+
+  bigint nfar = 0;
+  tagint example[2] = {0, 0};
+  for (const auto &[key, i] : cells) {
+    if (i >= nlocal) continue;
+    for (long d0 = -1; d0 <= 1; d0++)
+      for (long d1 = -1; d1 <= 1; d1++)
+        for (long d2 = -1; d2 <= 1; d2++) {
+          const Key c = {key[0] + d0, key[1] + d1, key[2] + d2};
+          for (auto e = std::lower_bound(cells.begin(), cells.end(), c, by_key);
+               e != cells.end() && e->first == c; ++e) {
+            const int j = e->second;
+            if (tag[j] <= tag[i]) continue;    // each pair once, by its smaller ID
+            double r0sq = 0.0, rsq = 0.0;
+            for (int k = 0; k < 3; k++) {
+              r0sq += (x0s[j][k] - x0s[i][k]) * (x0s[j][k] - x0s[i][k]);
+              rsq += (x[j][k] - x[i][k]) * (x[j][k] - x[i][k]);
+            }
+            const double delta = horizon[type[i]][type[j]];
+            if (r0sq > delta * delta || rsq <= neighbor->cutneighsq[type[i]][type[j]]) continue;
+            if (!nfar++) example[0] = tag[i], example[1] = tag[j];
+          }
+        }
+  }
+  bigint nfar_all = 0;
+  MPI_Allreduce(&nfar, &nfar_all, 1, MPI_LMP_BIGINT, MPI_SUM, world);
+  if (!nfar_all) return;
+  // the example with the smallest first ID, from the rank that holds it
+  const tagint mine = nfar ? example[0] : MAXTAGINT;
+  tagint ex[2] = {0, 0}, second = 0;
+  MPI_Allreduce(&mine, &ex[0], 1, MPI_LMP_TAGINT, MPI_MIN, world);
+  if (nfar && example[0] == ex[0]) second = example[1];
+  MPI_Allreduce(&second, &ex[1], 1, MPI_LMP_TAGINT, MPI_MAX, world);
+  if (comm->me == 0)
+    error->warning(FLERR, "Fix {}: {} pairs of atoms within the horizon in their reference "
+                   "positions are farther apart now than the neighbor cutoff and are not bonded "
+                   "(e.g. atoms {} and {}): atoms moved relative to each other before the first "
+                   "run by more than the neighbor skin.  If they are one body, deform it after "
+                   "the first run (run 0) or raise the skin (neighbor); bodies placed apart with "
+                   "displace_atoms are meant to stay unbonded", style, nfar_all, ex[0], ex[1]);
 }
 
 /* ----------------------------------------------------------------------

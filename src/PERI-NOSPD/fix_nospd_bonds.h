@@ -226,6 +226,7 @@ class FixNospdBonds : public FixPeriNeigh {
   void start_over();
 
   void build_families();
+  void warn_unbonded_reference_pairs();
   void clear_atom(int i);
   void check_coincident(int i, int j, double r) const;
   void update_x0s();

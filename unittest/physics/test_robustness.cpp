@@ -35,6 +35,20 @@ FixNospdBonds *bonds(LAMMPS *lmp)
   return static_cast<FixNospdBonds *>(lmp->modify->get_fix_by_id("NOSPD_BONDS"));
 }
 
+// what LAMMPS writes while it runs `lines`, through a log file in the build
+// folder (removed after)
+std::string log_of(LAMMPS *lmp, const std::vector<std::string> &lines)
+{
+  const std::string log = "robustness_log_of.log";
+  cmd(lmp, "log " + log);
+  for (const auto &line : lines) cmd(lmp, line);
+  cmd(lmp, "log none");
+  std::ifstream in(log);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::remove(log.c_str());
+  return text;
+}
+
 // a 3D block of 8 x 6 x 6 points, types 1 (x < 4 dx) and 2, SI units
 void two_type_block(LAMMPS *lmp)
 {
@@ -484,21 +498,65 @@ TEST_F(Robustness, TimestepAboveTheEstimateWarns)
   Block blk;
   blk.n = 7;
   make_block(lmp, blk);
-  const std::string log = "robustness_timestep.log";    // in the build folder
-  cmd(lmp, "log " + log);
-  cmd(lmp, "timestep 1e-8");
-  cmd(lmp, "run 0");
-  cmd(lmp, "timestep 1e-6");
-  cmd(lmp, "run 0");
-  cmd(lmp, "log none");
-  std::ifstream in(log);
-  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  std::remove(log.c_str());
+  const auto text = log_of(lmp, {"timestep 1e-8", "run 0", "timestep 1e-6", "run 0"});
   EXPECT_THAT(text, HasSubstr("stable time step estimate (Silling-Askari, P-wave modulus): type 1"));
   // one warning: for the second run, none for the first (below the estimate)
   const auto warn = text.find("WARNING: Fix PERI_NEIGH/NOSPD: timestep 1e-06 exceeds the stable");
   EXPECT_NE(warn, std::string::npos);
   EXPECT_EQ(text.find("exceeds the stable"), text.rfind("exceeds the stable"));
+}
+
+// families take their candidates from a neighbor list of the current
+// positions: a body stretched by 25 % before the first run (more than the
+// skin, dx/2, across a bond of 3 dx) loses the bonds that now reach beyond
+// horizon + skin.  The loss is reported with the exact number of such pairs
+// (counted here by brute force), and the bonds are the rest.
+TEST_F(Robustness, DeformedBeforeFirstRunReportsUnbondedPairs)
+{
+  Block blk;
+  blk.n = 8;
+  make_block(lmp, blk);
+  cmd(lmp, "displace_atoms all ramp x 0.0 0.00175 x 0.0 0.007 units box");
+  const auto text = log_of(lmp, {"run 0"});
+
+  const double delta = blk.delta(), cut = delta + 0.5 * blk.dx;
+  double **x = lmp->atom->x, **x0 = lmp->atom->x0;
+  const int n = lmp->atom->nlocal;
+  bigint pairs = 0, lost = 0;
+  for (int i = 0; i < n; i++)
+    for (int j = i + 1; j < n; j++) {
+      double r0sq = 0.0, rsq = 0.0;
+      for (int k = 0; k < 3; k++) {
+        r0sq += (x0[j][k] - x0[i][k]) * (x0[j][k] - x0[i][k]);
+        rsq += (x[j][k] - x[i][k]) * (x[j][k] - x[i][k]);
+      }
+      if (r0sq > delta * delta) continue;
+      pairs++;
+      if (rsq > cut * cut) lost++;
+    }
+  ASSERT_GT(lost, 0);
+  EXPECT_THAT(text, HasSubstr("WARNING: Fix PERI_NEIGH/NOSPD: " + std::to_string(lost) +
+                              " pairs of atoms within the horizon in their reference positions "
+                              "are farther apart now than the neighbor cutoff"));
+  EXPECT_EQ(bonds(lmp)->nbonds_total, 2 * (pairs - lost));
+}
+
+// a pair_style command that replaces the style discards the families,
+// healing the damage: said with a warning that counts the broken bonds
+TEST_F(Robustness, NewPairStyleSaysItHealsTheDamage)
+{
+  Block blk;
+  blk.n = 6;
+  make_block(lmp, blk);
+  cmd(lmp, "fix dmg all nospd/damage stretch 0.001");
+  cmd(lmp, "run 0");
+  cmd(lmp, "displace_atoms all ramp x 0.0 0.0003 x 0.0 0.005 units box");
+  cmd(lmp, "run 1");
+  const bigint broken = bonds(lmp)->nbonds_broken;
+  ASSERT_GT(broken, 0);
+  const auto text = log_of(lmp, {"pair_style peri/nospd/hs"});
+  EXPECT_THAT(text, HasSubstr("a new pair_style discards the bond families with their " +
+                              std::to_string(broken) + " broken bonds"));
 }
 
 TEST_F(Robustness, StableRunBelowTheEstimateDoesNotStop)
