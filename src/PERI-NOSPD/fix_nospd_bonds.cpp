@@ -729,6 +729,26 @@ void FixNospdBonds::warn_unbonded_reference_pairs()
       if (!active || (active[a] && active[b])) cell = std::max(cell, horizon[a][b]);
   if (!(cell > 0.0)) return;
 
+  // a pair is left out only if its ends moved apart by more than the skin:
+  // impossible when every displacement lies within skin/2 of the mean one
+  // (a body at rest, moved rigidly or deformed little: no search)
+  double usum[4] = {0.0, 0.0, 0.0, (double) nlocal}, uall[4];
+  for (int i = 0; i < nlocal; i++)
+    for (int k = 0; k < 3; k++) usum[k] += x[i][k] - x0s[i][k];
+  MPI_Allreduce(usum, uall, 4, MPI_DOUBLE, MPI_SUM, world);
+  if (uall[3] == 0.0) return;
+  double spread = 0.0, spread_all = 0.0;
+  for (int i = 0; i < nlocal; i++) {
+    double d2 = 0.0;
+    for (int k = 0; k < 3; k++) {
+      const double d = x[i][k] - x0s[i][k] - uall[k] / uall[3];
+      d2 += d * d;
+    }
+    spread = std::max(spread, d2);
+  }
+  MPI_Allreduce(&spread, &spread_all, 1, MPI_DOUBLE, MPI_MAX, world);
+  if (2.0 * sqrt(spread_all) <= neighbor->skin) return;
+
   using Key = std::array<long, 3>;
   std::vector<std::pair<Key, int>> cells;
   cells.reserve(nall);
