@@ -9,6 +9,7 @@
 #include "comm.h"
 #include "domain.h"
 #include "error.h"
+#include "math_const.h"
 #include "memory.h"
 #include "neigh_list.h"
 #include "neighbor.h"
@@ -35,6 +36,8 @@ static constexpr int NOSPD_HIST_WORK = NOSPD::Hist::WORK;
 using namespace LAMMPS_NS;
 using namespace FixConst;
 
+bool FixNospdBonds::made_by_pair_style = false;
+
 namespace {
 // the reference box of a bonds fix that a pair_style command deleted (its
 // destructor runs while LAMMPS goes on), per LAMMPS instance, with the
@@ -49,8 +52,24 @@ std::map<const LAMMPS *, ReplacedBox> replaced_boxes;
 
 /* ---------------------------------------------------------------------- */
 
+/* ----------------------------------------------------------------------
+   only the pair style makes this fix: a second instance under its ID would
+   replace the one that holds the families while the pair style still
+   points at it.  Checked before FixPeriNeigh's constructor runs, whose
+   destructor could not undo its callbacks for a fix not yet in the list.
+------------------------------------------------------------------------- */
+
+static int made_by_pair_or_error(LAMMPS *lmp, int narg, char **arg)
+{
+  if (!FixNospdBonds::made_by_pair_style)
+    lmp->error->all(FLERR, "Fix {} {}: this fix is internal: pair_style peri/nospd makes it, as "
+                    "fix NOSPD_BONDS, and it lives as long as the pair style; do not define it "
+                    "in an input script", narg > 0 ? arg[0] : "", narg > 2 ? arg[2] : "");
+  return narg;
+}
+
 FixNospdBonds::FixNospdBonds(LAMMPS *lmp, int narg, char **arg) :
-    FixPeriNeigh(lmp, narg, arg), nbond_atoms(0), bond_version(0), bond_first(nullptr), bond_j(nullptr),
+    FixPeriNeigh(lmp, made_by_pair_or_error(lmp, narg, arg), arg), nbond_atoms(0), bond_version(0), bond_first(nullptr), bond_j(nullptr),
     bond_slot(nullptr), bond_w(nullptr), bond_pair(nullptr), bond_ghost(nullptr), x0s(nullptr), kinv(nullptr), xi_moment(nullptr), u_moment(nullptr), family_size(nullptr), singular(nullptr),
     defgrad(nullptr), pk1(nullptr), energy_density(nullptr), nsingular(0), nbonds_total(0),
     nbonds_broken(0), nbonds_vanished(0), nmax_bonds(0), nmax_first(0), nmax_x0s(0), stale(nullptr),
@@ -447,8 +466,12 @@ void FixNospdBonds::post_neighbor()
 /* ----------------------------------------------------------------------
    x0 in the periodic image of x, for owned and ghost atoms.  Ghosts carry
    their owner's x0 unshifted, so x - x0 = u + (image shift); the minimum
-   image of that difference is the displacement u (valid while |u| stays
-   below half a box length), and the rest counts whole box lengths.  The
+   image of that difference, taken about the body's mean displacement
+   u_m, is u - u_m (valid while |u - u_m| stays below half a box length:
+   any rigid translation, a shear with remap up to nearly 100 %), and the
+   rest counts whole box lengths.  u_m is the circular mean of the owned
+   atoms' displacements in box fractions (their x wrapped by whole box
+   lengths must not pull it), the same on every rank.  The
    image of the reference is shifted by the REFERENCE box length: a box
    deformed since the families were built (fix deform, change_box) must not
    stretch the reference bonds that cross its boundary.
@@ -472,8 +495,11 @@ void FixNospdBonds::update_x0s()
   double **x = atom->x;
   double **x0 = atom->x0;
   const double *h = domain->h, *r = ref_h;
+  double um[3];
+  mean_displacement(um);
   for (int i = 0; i < nall; i++) {
-    const double d0[3] = {x[i][0] - x0[i][0], x[i][1] - x0[i][1], x[i][2] - x0[i][2]};
+    const double d0[3] = {x[i][0] - x0[i][0] - um[0], x[i][1] - x0[i][1] - um[1],
+                          x[i][2] - x0[i][2] - um[2]};
     double d[3] = {d0[0], d0[1], d0[2]};
     domain->minimum_image(FLERR, d);
     // shift = n0 a + n1 b + n2 c, the current box vectors (upper triangular)
@@ -486,6 +512,41 @@ void FixNospdBonds::update_x0s()
     x0s_store[i][2] = x0[i][2] + n2 * r[2];
   }
   x0s = x0s_store;
+}
+
+/* ----------------------------------------------------------------------
+   the circular mean of the owned atoms' displacements x - x0 along each
+   periodic box vector (as fractions of it), in distance units: atoms that
+   crossed a periodic boundary count as where they were
+------------------------------------------------------------------------- */
+
+void FixNospdBonds::mean_displacement(double *um) const
+{
+  const int nlocal = atom->nlocal;
+  double **x = atom->x, **x0 = atom->x0;
+  const int *type = atom->type;
+  const double *hi = domain->h_inv, *h = domain->h;
+  const int periodic[3] = {domain->xperiodic, domain->yperiodic, domain->zperiodic};
+  double cs[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0}, cs_all[6];
+  for (int i = 0; i < nlocal; i++) {
+    if (model.active && !model.active[type[i]]) continue;
+    const double d[3] = {x[i][0] - x0[i][0], x[i][1] - x0[i][1], x[i][2] - x0[i][2]};
+    const double lam[3] = {hi[0] * d[0] + hi[5] * d[1] + hi[4] * d[2], hi[1] * d[1] + hi[3] * d[2],
+                           hi[2] * d[2]};
+    for (int k = 0; k < 3; k++) {
+      cs[k] += cos(MathConst::MY_2PI * lam[k]);
+      cs[3 + k] += sin(MathConst::MY_2PI * lam[k]);
+    }
+  }
+  MPI_Allreduce(cs, cs_all, 6, MPI_DOUBLE, MPI_SUM, world);
+  double m[3];
+  for (int k = 0; k < 3; k++) {
+    const bool defined = periodic[k] && (cs_all[k] != 0.0 || cs_all[3 + k] != 0.0);
+    m[k] = defined ? atan2(cs_all[3 + k], cs_all[k]) / (MathConst::MY_2PI) : 0.0;
+  }
+  um[0] = h[0] * m[0] + h[5] * m[1] + h[4] * m[2];
+  um[1] = h[1] * m[1] + h[3] * m[2];
+  um[2] = h[2] * m[2];
 }
 
 /* ----------------------------------------------------------------------
@@ -511,8 +572,15 @@ void FixNospdBonds::follow_box()
     ref_box_set = 1;
     return;
   }
-  const NOSPD::Mat3 M = (matrix(last_h).inverse() * matrix(h)).array().round().matrix();
-  if (!M.isIdentity(0.0)) {
+  const NOSPD::Mat3 A = matrix(last_h).inverse() * matrix(h);
+  const NOSPD::Mat3 M = A.array().round().matrix();
+  // a flip (fix deform) changes the basis by whole box vectors and leaves
+  // every tilt within half a box length; a large one-shot change (change_box
+  // xy final 0.6*lx remap) is a deformation, whatever M rounds to
+  const bool flipped = !M.isIdentity(0.0) && (A - M).cwiseAbs().maxCoeff() < 0.1 &&
+      std::abs(h[5]) <= 0.500001 * h[0] && std::abs(h[4]) <= 0.500001 * h[0] &&
+      std::abs(h[3]) <= 0.500001 * h[1];
+  if (flipped) {
     const NOSPD::Mat3 R = matrix(ref_h) * M;
     const double r[6] = {R(0, 0), R(1, 1), R(2, 2), R(1, 2), R(0, 2), R(0, 1)};
     for (int k = 0; k < 6; k++) ref_h[k] = r[k];
@@ -860,6 +928,20 @@ void FixNospdBonds::build_bond_arrays()
     memory->create(bond_w, nmax_bonds, "nospd/bonds:bond_w");
   }
 
+  // in a periodic box, a bond's ends must sit in matching images: its
+  // displacement Y - xi is a fraction of the horizon, never near half a box
+  // length (what it is when the body's displacement field spans a period,
+  // e.g. sheared by over 100 %: reference images then go wrong)
+  double **x = atom->x;
+  double half_box_sq = BIG;
+  if (periodic) {
+    const double *h = domain->h;
+    const int pdim[3] = {domain->xperiodic, domain->yperiodic, domain->zperiodic};
+    for (int k = 0; k < 3; k++)
+      if (pdim[k]) half_box_sq = std::min(half_box_sq, 0.25 * h[k] * h[k]);
+  }
+  int bad_i = -1, bad_j = -1;
+
   std::vector<MissingPartner> missing;
   int b = 0;
   for (int i = 0; i < nlocal; i++) {
@@ -877,6 +959,11 @@ void FixNospdBonds::build_bond_arrays()
       const double dy = x0s[j][1] - x0s[i][1];
       const double dz = x0s[j][2] - x0s[i][2];
       const double r = sqrt(dx * dx + dy * dy + dz * dz);
+      if (periodic && bad_i < 0) {
+        const double ux = x[j][0] - x[i][0] - dx, uy = x[j][1] - x[i][1] - dy,
+                     uz = x[j][2] - x[i][2] - dz;
+        if (ux * ux + uy * uy + uz * uz > half_box_sq) bad_i = i, bad_j = j;
+      }
       bond_j[b] = j;
       bond_slot[b] = n;
       bond_w[b] = weight(r, horizon[type[i]][type[j]]) * vfrac[j];
@@ -886,6 +973,18 @@ void FixNospdBonds::build_bond_arrays()
   bond_first[nlocal] = b;
   nbond_atoms = nlocal;
   bond_version++;
+  if (bad_i >= 0)
+    error->one(FLERR, "Fix {}: the bond of atoms {} and {} is displaced by half a box length "
+               "(its ends are {:.6g} apart, {:.6g} in the reference): the body's displacement "
+               "field spans a period of the box (a periodic body sheared or strained by "
+               "about 100 %), beyond what its periodic reference images can follow",
+               style, atom->tag[bad_i], atom->tag[bad_j],
+               sqrt((x[bad_j][0] - x[bad_i][0]) * (x[bad_j][0] - x[bad_i][0]) +
+                    (x[bad_j][1] - x[bad_i][1]) * (x[bad_j][1] - x[bad_i][1]) +
+                    (x[bad_j][2] - x[bad_i][2]) * (x[bad_j][2] - x[bad_i][2])),
+               sqrt((x0s[bad_j][0] - x0s[bad_i][0]) * (x0s[bad_j][0] - x0s[bad_i][0]) +
+                    (x0s[bad_j][1] - x0s[bad_i][1]) * (x0s[bad_j][1] - x0s[bad_i][1]) +
+                    (x0s[bad_j][2] - x0s[bad_i][2]) * (x0s[bad_j][2] - x0s[bad_i][2])));
 
   int nmissing = missing.size(), anymissing = 0;
   MPI_Allreduce(&nmissing, &anymissing, 1, MPI_INT, MPI_SUM, world);

@@ -148,6 +148,8 @@ class FixNospdBonds : public FixPeriNeigh {
   // per type, the law whose state the history holds (the pair style's
   // code; empty after a restart)
   std::vector<int> history_law;
+  // set by the pair style around its add_fix: any other instance is an error
+  static bool made_by_pair_style;
   // the type an atom had at the last setup, under whose law its history was
   // written (0: created since, no family)
   int type_of_history(int i) const { return family_type[i]; }
@@ -230,6 +232,7 @@ class FixNospdBonds : public FixPeriNeigh {
   void clear_atom(int i);
   void check_coincident(int i, int j, double r) const;
   void update_x0s();
+  void mean_displacement(double *um) const;
   void build_bond_arrays();
   struct MissingPartner {
     int i, slot;

@@ -172,6 +172,7 @@ FixNospdDamage::FixNospdDamage(LAMMPS *lmp, int narg, char **arg) :
                "johnson_cook, none)", cmd, c);
 
   const int dim = domain->dimension;
+  const char *contact_keyword_given = nullptr;    // the last contact/... keyword
   while (iarg < narg) {
     const std::string key = arg[iarg];
     if (key == "scatter") {
@@ -180,7 +181,7 @@ FixNospdDamage::FixNospdDamage(LAMMPS *lmp, int narg, char **arg) :
       scatter_seed = utils::inumeric(FLERR, arg[iarg + 2], false, lmp);
       if (!(scatter_width >= 0.0 && scatter_width < 1.0))
         error->all(FLERR, "{}: scatter width must be in [0,1), got {}", cmd, arg[iarg + 1]);
-      if (scatter_seed <= 0) error->all(FLERR, "{}: scatter seed must be > 0", cmd);
+      if (scatter_seed <= 0) error->all(FLERR, "{}: scatter seed must be > 0, got {}", cmd, arg[iarg + 2]);
       iarg += 3;
     } else if (key == "nofail") {
       need(iarg, 2, key);
@@ -242,23 +243,25 @@ FixNospdDamage::FixNospdDamage(LAMMPS *lmp, int narg, char **arg) :
     } else if (key == "contact/stiffness") {
       need(iarg, 1, key);
       contact_scale = number(iarg + 1);
-      if (!(contact_scale > 0.0)) error->all(FLERR, "{}: contact/stiffness must be > 0", cmd);
+      contact_keyword_given = "contact/stiffness";
+      if (!(contact_scale > 0.0)) error->all(FLERR, "{}: contact/stiffness must be > 0, got {}", cmd, arg[iarg + 1]);
       iarg += 2;
     } else if (key == "contact/radius") {
       need(iarg, 1, key);
       contact_radius = number(iarg + 1);
-      if (!(contact_radius > 0.0)) error->all(FLERR, "{}: contact/radius must be > 0", cmd);
+      contact_keyword_given = "contact/radius";
+      if (!(contact_radius > 0.0)) error->all(FLERR, "{}: contact/radius must be > 0, got {}", cmd, arg[iarg + 1]);
       iarg += 2;
     } else if (key == "alpha") {
       need(iarg, 1, key);
       alpha = number(iarg + 1);
-      if (!(alpha >= 0.0)) error->all(FLERR, "{}: alpha must be >= 0", cmd);
+      if (!(alpha >= 0.0)) error->all(FLERR, "{}: alpha must be >= 0, got {}", cmd, arg[iarg + 1]);
       if (criterion != STRETCH) error->all(FLERR, "{}: alpha applies to the stretch criterion only", cmd);
       iarg += 2;
     } else if (key == "every") {
       need(iarg, 1, key);
       nevery = utils::inumeric(FLERR, arg[iarg + 1], false, lmp);
-      if (nevery <= 0) error->all(FLERR, "{}: every must be > 0", cmd);
+      if (nevery <= 0) error->all(FLERR, "{}: every must be > 0, got {}", cmd, arg[iarg + 1]);
       iarg += 2;
     } else {
       for (const char *c : {"none", "stretch", "energy", "stress", "strain", "eqps", "johnson_cook"})
@@ -268,6 +271,9 @@ FixNospdDamage::FixNospdDamage(LAMMPS *lmp, int narg, char **arg) :
       error->all(FLERR, "{}: unknown keyword '{}'", cmd, key);
     }
   }
+  if (!contact && contact_keyword_given)
+    error->all(FLERR, "{}: {} given without contact yes: it sets the contact force, which is "
+               "off", cmd, contact_keyword_given);
   if (contact) {
     // the contact force is an interaction like the pair style's: its energy
     // (global scalar) and virial enter thermo pe and pressure by default

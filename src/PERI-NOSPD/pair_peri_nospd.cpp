@@ -882,7 +882,13 @@ void PairPeriNospd::ensure_bonds_fix()
                "and their state, and lives as long as the pair style (a new pair_style "
                "command starts new families)", force->pair_style, BONDS_FIX_ID);
   }
-  if (!f) f = modify->add_fix(fmt::format("{} all PERI_NEIGH/NOSPD", BONDS_FIX_ID));
+  if (!f) {
+    struct Making {    // the flag falls back also when add_fix throws
+      Making() { FixNospdBonds::made_by_pair_style = true; }
+      ~Making() { FixNospdBonds::made_by_pair_style = false; }
+    } making;
+    f = modify->add_fix(fmt::format("{} all PERI_NEIGH/NOSPD", BONDS_FIX_ID));
+  }
   fix_bonds = dynamic_cast<FixNospdBonds *>(f);
   if (!fix_bonds)
     error->all(FLERR, "pair_style {}: fix {} exists but is not a PERI_NEIGH/NOSPD fix",

@@ -559,6 +559,43 @@ TEST_F(Robustness, NewPairStyleSaysItHealsTheDamage)
                               std::to_string(broken) + " broken bonds"));
 }
 
+// a periodic body sheared with its box (change_box ... remap) past half a
+// box length: every family's F is exactly the applied simple shear (before,
+// at 0.6 the atoms near the top took the wrong reference image, F12 = 0.31,
+// and the box change was taken for a flip); at 1.2 the displacement field
+// spans a period, which periodic reference images cannot follow: an error
+TEST_F(Robustness, PeriodicShearPastHalfTheBox)
+{
+  for (const double shear : {0.6, 0.9, 1.2}) {
+    SCOPED_TRACE("shear " + num(shear));
+    LAMMPS *l = open_lammps();
+    Block blk;
+    blk.n = 7;    // the box 7 dx against a horizon of 3.01 dx: images near
+    blk.dx = 0.5e-3;
+    blk.periodic = true;
+    blk.settings = "strain finite";
+    make_block(l, blk);
+    cmd(l, "change_box all triclinic");
+    cmd(l, "run 0");
+    cmd(l, "change_box all xy final " + num(shear * blk.n * blk.dx) + " remap units box");
+    const auto err = error_of(l, "run 0");
+    if (shear > 1.0) {
+      EXPECT_THAT(err, HasSubstr("the body's displacement field spans a period of the box"));
+    } else {
+      ASSERT_EQ(err, "");
+      double **F = bonds(l)->defgrad;
+      double worst = 0.0;
+      for (int i = 0; i < l->atom->nlocal; i++)
+        for (int k = 0; k < 9; k++) {
+          const double expect = (k % 4 == 0) ? 1.0 : (k == 1 ? shear : 0.0);
+          worst = std::max(worst, std::abs(F[i][k] - expect));
+        }
+      EXPECT_LT(worst, 1e-12);
+    }
+    delete l;
+  }
+}
+
 TEST_F(Robustness, StableRunBelowTheEstimateDoesNotStop)
 {
   EXPECT_EQ(shaken_block_run(0.8, 500), "");
