@@ -928,18 +928,17 @@ void FixNospdBonds::build_bond_arrays()
     memory->create(bond_w, nmax_bonds, "nospd/bonds:bond_w");
   }
 
-  // in a periodic box, a bond's ends must sit in matching images: its
-  // displacement Y - xi is a fraction of the horizon, never near half a box
-  // length (what it is when the body's displacement field spans a period,
-  // e.g. sheared by over 100 %: reference images then go wrong)
+  // in a periodic box, a bond's ends must sit in matching images: along a
+  // periodic box vector its displacement Y - xi stays below half of it (a
+  // bond is shorter than half a box, and a shear with the box of up to
+  // 100 % moves its ends apart by less than the bond's length); half a box
+  // or more means that the body's displacement field spans a period (a
+  // shear beyond 100 %) and the reference images went wrong (2D: z is not
+  // a direction of the body)
   double **x = atom->x;
-  double half_box_sq = BIG;
-  if (periodic) {
-    const double *h = domain->h;
-    const int pdim[3] = {domain->xperiodic, domain->yperiodic, domain->zperiodic};
-    for (int k = 0; k < 3; k++)
-      if (pdim[k]) half_box_sq = std::min(half_box_sq, 0.25 * h[k] * h[k]);
-  }
+  const double *hi = domain->h_inv;
+  const int pdim[3] = {domain->xperiodic, domain->yperiodic,
+                       domain->zperiodic && domain->dimension == 3};
   int bad_i = -1, bad_j = -1;
 
   std::vector<MissingPartner> missing;
@@ -960,9 +959,13 @@ void FixNospdBonds::build_bond_arrays()
       const double dz = x0s[j][2] - x0s[i][2];
       const double r = sqrt(dx * dx + dy * dy + dz * dz);
       if (periodic && bad_i < 0) {
+        // Y - xi in fractions of the periodic box vectors
         const double ux = x[j][0] - x[i][0] - dx, uy = x[j][1] - x[i][1] - dy,
                      uz = x[j][2] - x[i][2] - dz;
-        if (ux * ux + uy * uy + uz * uz > half_box_sq) bad_i = i, bad_j = j;
+        const double lam[3] = {hi[0] * ux + hi[5] * uy + hi[4] * uz, hi[1] * uy + hi[3] * uz,
+                               hi[2] * uz};
+        for (int k = 0; k < 3; k++)
+          if (pdim[k] && std::abs(lam[k]) > 0.5) bad_i = i, bad_j = j;
       }
       bond_j[b] = j;
       bond_slot[b] = n;
