@@ -1031,22 +1031,18 @@ TEST_F(Damage, BadInput)
   EXPECT_THAT(error_of(lmp, "fix d all nospd/damage stretch 0.01 scatter 1.5 3"),
               HasSubstr("scatter width"));
   EXPECT_THAT(error_of(lmp, "fix d all nospd/damage none"), HasSubstr("does nothing"));
-  // bad values are named
-  EXPECT_THAT(error_of(lmp, "fix d all nospd/damage stretch 0.01 alpha -1"),
-              HasSubstr("alpha must be >= 0, got -1"));
-  EXPECT_THAT(error_of(lmp, "fix d all nospd/damage stretch 0.01 every 0"),
-              HasSubstr("every must be > 0, got 0"));
-  EXPECT_THAT(error_of(lmp, "fix d all nospd/damage stretch 0.01 contact yes contact/radius 0"),
-              HasSubstr("contact/radius must be > 0, got 0"));
-  EXPECT_THAT(error_of(lmp, "fix d all nospd/damage stretch 0.01 contact yes contact/stiffness -1"),
-              HasSubstr("contact/stiffness must be > 0, got -1"));
-  EXPECT_THAT(error_of(lmp, "fix d all nospd/damage stretch 0.01 scatter 0.1 0"),
-              HasSubstr("scatter seed must be > 0, got 0"));
-  // a contact setting without the contact would do nothing
-  EXPECT_THAT(error_of(lmp, "fix d all nospd/damage stretch 0.01 contact/radius 0.001"),
-              HasSubstr("contact/radius given without contact yes"));
-  EXPECT_THAT(error_of(lmp, "fix d all nospd/damage stretch 0.01 contact no contact/stiffness 3"),
-              HasSubstr("contact/stiffness given without contact yes"));
+  // bad values are named; a contact setting without the contact does nothing
+  const std::vector<std::pair<std::string, std::string>> named = {
+      {"alpha -1", "alpha must be >= 0, got -1"},
+      {"every 0", "every must be > 0, got 0"},
+      {"contact yes contact/radius 0", "contact/radius must be > 0, got 0"},
+      {"contact yes contact/stiffness -1", "contact/stiffness must be > 0, got -1"},
+      {"scatter 0.1 0", "scatter seed must be > 0, got 0"},
+      {"contact/radius 0.001", "contact/radius given without contact yes"},
+      {"contact no contact/stiffness 3", "contact/stiffness given without contact yes"}};
+  for (const auto &[keywords, message] : named)
+    EXPECT_THAT(error_of(lmp, "fix d all nospd/damage stretch 0.01 " + keywords),
+                HasSubstr(message));
   EXPECT_THAT(error_of(lmp, "fix d all nospd/damage energy 1e9 alpha 0.25"),
               HasSubstr("alpha applies to the stretch criterion only"));
   EXPECT_THAT(error_of(lmp, "fix d all nospd/damage stretch 0.01 nofail region nowhere"),
