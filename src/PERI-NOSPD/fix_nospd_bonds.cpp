@@ -70,7 +70,7 @@ static int made_by_pair_or_error(LAMMPS *lmp, int narg, char **arg)
 
 FixNospdBonds::FixNospdBonds(LAMMPS *lmp, int narg, char **arg) :
     FixPeriNeigh(lmp, made_by_pair_or_error(lmp, narg, arg), arg), nbond_atoms(0), bond_version(0), bond_first(nullptr), bond_j(nullptr),
-    bond_slot(nullptr), bond_w(nullptr), bond_pair(nullptr), bond_ghost(nullptr), x0s(nullptr), kinv(nullptr), xi_moment(nullptr), u_moment(nullptr), family_size(nullptr), singular(nullptr),
+    bond_slot(nullptr), bond_w(nullptr), bond_pair(nullptr), bond_ghost(nullptr), x0s(nullptr), kinv(nullptr), kinv2(nullptr), xi_moment(nullptr), u_moment(nullptr), family_size(nullptr), singular(nullptr),
     defgrad(nullptr), pk1(nullptr), energy_density(nullptr), nsingular(0), nbonds_total(0),
     nbonds_broken(0), nbonds_vanished(0), nmax_bonds(0), nmax_first(0), nmax_x0s(0), stale(nullptr),
     all_stale(true), trial_ready(0), x0s_store(nullptr), ref_box_set(0), own_tag(nullptr), family_type(nullptr)
@@ -110,6 +110,8 @@ void FixNospdBonds::clear_atom(int i)
   family_size[i] = 0;
   stale[i] = 1;
   for (int k = 0; k < 9; k++) kinv[i][k] = defgrad[i][k] = pk1[i][k] = 0.0;
+  if (kinv2)
+    for (int k = 0; k < NOSPD::QuadraticFit::RECORD; k++) kinv2[i][k] = 0.0;
   for (int k = 0; k < 3; k++) xi_moment[i][k] = u_moment[i][k] = 0.0;
   energy_density[i] = 0.0;
   own_tag[i] = 0;
@@ -146,6 +148,7 @@ FixNospdBonds::~FixNospdBonds()
   memory->destroy(bond_ghost);
   memory->destroy(x0s_store);
   memory->destroy(kinv);
+  memory->destroy(kinv2);
   memory->destroy(xi_moment);
   memory->destroy(u_moment);
   memory->destroy(family_size);
@@ -215,7 +218,7 @@ void FixNospdBonds::setup_post_neighbor()
     if (family_type[i] > 0) family_type[i] = atom->type[i];
   check_periodicity(built_now);
   // also after a restart, where build_families() does not run
-  maxexchange = maxpartner + 22 + nhistory;
+  maxexchange = maxpartner + 22 + quadratic_record() + nhistory;
   // the votes of the last init (a run with "pre no" may set up without one)
   if (pair_votes[0] + pair_votes[1] > 0) pair_order = pair_votes[1] > 0 && pair_votes[0] == 0;
   pair_votes[0] = pair_votes[1] = 0;
@@ -769,7 +772,7 @@ void FixNospdBonds::build_families()
       vinter[i] += fam[i][n].vol;    // read by compute damage/atom
     }
   }
-  maxexchange = maxpartner + 22 + nhistory;
+  maxexchange = maxpartner + 22 + quadratic_record() + nhistory;
 }
 
 /* ----------------------------------------------------------------------
@@ -1376,6 +1379,40 @@ void FixNospdBonds::resolve_missing(const std::vector<MissingPartner> &missing)
    out-of-plane direction so that 3x3 algebra serves both dimensions.
 ------------------------------------------------------------------------- */
 
+void FixNospdBonds::set_model(const NospdBondModel &m)
+{
+  const bool had = model.quadratic;
+  model = m;
+  if (model.quadratic == had) return;
+  // the fit operators come and go with the setting: computed for every
+  // family at the next rebuild of the shape tensors
+  if (model.quadratic) {
+    memory->grow(kinv2, atom->nmax, NOSPD::QuadraticFit::RECORD, "nospd/bonds:kinv2");
+    for (int i = 0; i < atom->nmax; i++)
+      for (int k = 0; k < NOSPD::QuadraticFit::RECORD; k++) kinv2[i][k] = 0.0;
+    all_stale = true;
+  } else {
+    memory->destroy(kinv2);
+    kinv2 = nullptr;
+  }
+  maxexchange = maxpartner + 22 + quadratic_record() + nhistory;
+}
+
+/* the quadratic fit operator of owned atom i's family (bond arrays current) */
+void FixNospdBonds::quadratic_fit_of(int i)
+{
+  Eigen::Matrix<double, 9, 9> K2 = Eigen::Matrix<double, 9, 9>::Zero();
+  double phi[9];
+  for (int b = bond_first[i]; b < bond_first[i + 1]; b++) {
+    const int j = bond_j[b];
+    for (int d = 0; d < 3; d++) phi[d] = x0s[j][d] - x0s[i][d];
+    NOSPD::quadratic_terms(phi, phi + 3);
+    const Eigen::Map<const Eigen::Matrix<double, 9, 1>> p(phi);
+    K2.noalias() += bond_w[b] * p * p.transpose();
+  }
+  NOSPD::quadratic_fit_inverse(K2, kinv2[i]);
+}
+
 void FixNospdBonds::update_shape_tensors()
 {
   const int nlocal = atom->nlocal;
@@ -1418,6 +1455,7 @@ void FixNospdBonds::update_shape_tensors()
       NOSPD::Mat3 Ki;
       singular[i] = NOSPD::safe_inverse(K, dim, conditioning_tolerance(i), Ki) ? 0 : 1;
       NOSPD::store(Ki, kinv[i]);
+      if (kinv2) quadratic_fit_of(i);
       stale[i] = 0;
     }
     nsing_local += (singular[i] == 1);
@@ -1633,7 +1671,7 @@ void FixNospdBonds::layout_history(int n_atom, int n_bond)
     memory->destroy(history_trial);
     history = history_trial = nullptr;
     nhistory = nhist_atom = nhist_bond = hist_slots = 0;
-    maxexchange = maxpartner + 22;
+    maxexchange = maxpartner + 22 + quadratic_record();
     return;
   }
   const int n = n_atom + n_bond * slots;
@@ -1658,7 +1696,7 @@ void FixNospdBonds::layout_history(int n_atom, int n_bond)
   nhist_atom = n_atom;
   nhist_bond = n_bond;
   hist_slots = slots;
-  maxexchange = maxpartner + 22 + nhistory;
+  maxexchange = maxpartner + 22 + quadratic_record() + nhistory;
 }
 
 /* ----------------------------------------------------------------------
@@ -1763,6 +1801,7 @@ double FixNospdBonds::memory_usage()
   bytes += (double) nmax_pair * 2 * sizeof(int);
   bytes += (double) nmax_x0s * 3 * sizeof(double);
   bytes += nmax * 2.0 * nhistory * sizeof(double);
+  bytes += nmax * (double) quadratic_record() * sizeof(double);
   return bytes;
 }
 
@@ -1777,6 +1816,7 @@ void FixNospdBonds::grow_arrays(int nmax)
   memory->grow(vinter, nmax, "nospd/bonds:vinter");
   memory->grow(wvolume, nmax, "nospd/bonds:wvolume");
   memory->grow(kinv, nmax, 9, "nospd/bonds:kinv");
+  if (model.quadratic) memory->grow(kinv2, nmax, NOSPD::QuadraticFit::RECORD, "nospd/bonds:kinv2");
   memory->grow(xi_moment, nmax, 3, "nospd/bonds:xi_moment");
   memory->grow(u_moment, nmax, 3, "nospd/bonds:u_moment");
   memory->grow(family_size, nmax, "nospd/bonds:family_size");
@@ -1828,6 +1868,8 @@ void FixNospdBonds::copy_arrays(int i, int j, int /*delflag*/)
     xi_moment[j][k] = xi_moment[i][k];
     u_moment[j][k] = u_moment[i][k];
   }
+  if (kinv2)
+    for (int k = 0; k < NOSPD::QuadraticFit::RECORD; k++) kinv2[j][k] = kinv2[i][k];
   family_size[j] = family_size[i];
   singular[j] = singular[i];
   stale[j] = stale[i];
@@ -1857,6 +1899,8 @@ int FixNospdBonds::pack_exchange(int i, double *buf)
   buf[m++] = singular[i];
   buf[m++] = stale[i];
   for (int k = 0; k < 9; k++) buf[m++] = kinv[i][k];
+  if (kinv2)
+    for (int k = 0; k < NOSPD::QuadraticFit::RECORD; k++) buf[m++] = kinv2[i][k];
   for (int k = 0; k < 3; k++) buf[m++] = xi_moment[i][k];
   buf[m++] = ubuf(own_tag[i]).d;
   buf[m++] = family_type[i];
@@ -1877,6 +1921,8 @@ int FixNospdBonds::unpack_exchange(int nlocal, double *buf)
   singular[nlocal] = static_cast<int>(buf[m++]);
   stale[nlocal] = static_cast<int>(buf[m++]);
   for (int k = 0; k < 9; k++) kinv[nlocal][k] = buf[m++];
+  if (kinv2)
+    for (int k = 0; k < NOSPD::QuadraticFit::RECORD; k++) kinv2[nlocal][k] = buf[m++];
   for (int k = 0; k < 3; k++) xi_moment[nlocal][k] = buf[m++];
   own_tag[nlocal] = (tagint) ubuf(buf[m++]).i;
   family_type[nlocal] = static_cast<int>(buf[m++]);

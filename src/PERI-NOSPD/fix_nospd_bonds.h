@@ -12,6 +12,7 @@ FixStyle(PERI_NEIGH/NOSPD,FixNospdBonds);
 #define LMP_FIX_NOSPD_BONDS_H
 
 #include "fix_peri_neigh.h"
+#include "nospd_stabilization.h"
 
 #include "nospd_bond_sums.h"
 
@@ -36,6 +37,8 @@ struct NospdBondModel {
   // [ntypes+1]: bond-based micromodulus with the material's P-wave modulus,
   // for the stable time step estimate (0: not estimated)
   const double *wave_micromodulus = nullptr;
+  // keep each family's quadratic fit operator (kinv2): stabilization/fit quadratic
+  bool quadratic = false;
 };
 
 /* Owner of the bond families and of the reference and deformation state.
@@ -76,7 +79,9 @@ class FixNospdBonds : public FixPeriNeigh {
   int size_restart(int) override;
   int maxsize_restart() override;
 
-  void set_model(const NospdBondModel &m) { model = m; }
+  void set_model(const NospdBondModel &m);
+  // doubles per atom of the quadratic fit operators (0 unless model.quadratic)
+  int quadratic_record() const { return kinv2 ? NOSPD::QuadraticFit::RECORD : 0; }
   // called by the owning pair style at each init: 1 classical (peri/nospd),
   // 2 bond-associated (peri/nospd/hs).  Families and state from a restart
   // written under the other style are dropped, as a pair_style command
@@ -170,6 +175,8 @@ class FixNospdBonds : public FixPeriNeigh {
   int *bond_ghost;
   double **x0s;           // x0 in the periodic image of x, owned + ghost
   double **kinv;          // K^-1, 9 per atom, row-major; zero if singular
+  double **kinv2;         // the quadratic fit's K2^-1 and its flag (model.quadratic
+                          // only: nospd_stabilization.h, QuadraticFit::RECORD per atom)
   double **xi_moment;     // sum_j w xi (reference; zero inside a regular grid)
   double **u_moment;      // sum_j w U, filled by pass 1
   int *family_size;       // bonds at the first build, broken ones included
@@ -257,6 +264,7 @@ class FixNospdBonds : public FixPeriNeigh {
   int nmax_pair = 0;
   void order_for_pairs();
   void update_shape_tensors();
+  void quadratic_fit_of(int i);
   void count_bonds();
   void report_families();
   double weight(double r, double delta) const;

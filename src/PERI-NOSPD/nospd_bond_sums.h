@@ -88,11 +88,51 @@ inline void deformation_sums(const Positions &p, const BondList &bl, int i, doub
 }
 
 /* ----------------------------------------------------------------------
+   the quadratic fit's sums at point i (nospd_stabilization.h): N2 =
+   sum_j w U phi(xi)^T column by column (N2[3 k + r], 9 columns) and
+   q = sum_j w phi_q(xi), the six quadratic entries
+------------------------------------------------------------------------- */
+
+constexpr int QSUMS = 33;    // doubles per point: N2 (27), then q (6)
+
+inline void quadratic_sums(const Positions &p, const BondList &bl, int i, double *out)
+{
+  using namespace simd;
+  const v4 x0i = load4(p.x0 + 3 * i), xi = load4(p.x + 3 * i);
+  v4 c[9] = {}, qa{}, qb{};
+  for (int b = bl.from; b < bl.to; b++) {
+    const int j3 = 3 * bl.j[b];
+    const v4 e = load4(p.x0 + j3) - x0i;
+    const v4 u = (load4(p.x + j3) - xi) - e;
+    const double w = bl.w[b];
+    const v4 wu = w * u;
+    const v4 ee = e * e;
+    const v4 ex{e[0] * e[1], e[0] * e[2], e[1] * e[2], 0.0};
+    c[0] += wu * e[0];
+    c[1] += wu * e[1];
+    c[2] += wu * e[2];
+    c[3] += wu * ee[0];
+    c[4] += wu * ee[1];
+    c[5] += wu * ee[2];
+    c[6] += wu * ex[0];
+    c[7] += wu * ex[1];
+    c[8] += wu * ex[2];
+    qa += w * ee;
+    qb += w * ex;
+  }
+  for (int k = 0; k < 9; k++)
+    for (int r = 0; r < 3; r++) out[3 * k + r] = c[k][r];
+  for (int r = 0; r < 3; r++) out[27 + r] = qa[r], out[30 + r] = qb[r];
+}
+
+/* ----------------------------------------------------------------------
    pass 2 at point i, the stabilization STAB as the style numbers it
-   (0 none, 1 Silling, 2 hourglass, 3 Wan):
+   (0 none, 1 Silling, 2 hourglass, 3 Wan, 5 Silling on the quadratic fit):
      g = w ((B_j [+ B_i]) xi + stabilization term),  f = sum_j g
    B: the BREC records (B^T and the stabilization scalar c); T: T^T per
-   atom (Wan's S, or the hourglass H = F - I).  Without VIRIAL the i-terms are
+   atom (Wan's S, or the hourglass H = F - I); Q: the quadratic fit's
+   alpha Q per atom, 6 columns of 3 (with 5, which adds
+   (alpha_j Q_j [- alpha_i Q_i]) phi_q(xi) per bond).  Without VIRIAL the i-terms are
    left out (the caller adds B_i sum_j w xi and S_i sum_j w U); with it they
    are in g and v collects the bond virial 1/2 (x_i - x_j) (x) g
    (xx yy zz xy xz yz).
@@ -101,7 +141,10 @@ inline void deformation_sums(const Positions &p, const BondList &bl, int i, doub
 struct ForceTerms {
   const double *__restrict B;
   const double *__restrict T;
+  const double *__restrict Q = nullptr;    // 18 per atom, one readable double after
 };
+
+constexpr int QREC = 18;    // doubles per atom of Q
 
 namespace detail {
   // what pass 2 needs of bond (i, j) before any stabilization: xi, Y,
@@ -167,8 +210,20 @@ inline void force_sums(const Positions &p, const BondList &bl, const ForceTerms 
   for (int b = bl.from; b < bl.to; b++) {
     const int j = bl.j[b];
     detail::StressBond t = detail::stress_bond<VIRIAL>(p, ft, j, x0i, xi, Bi);
-    if (STAB == 1) {
+    if (STAB == 1 || STAB == 5) {
       t.g += (VIRIAL ? si + t.sj : t.sj) * t.u;
+    }
+    if (STAB == 5) {
+      const v4 ee = t.e * t.e;
+      const double q3 = t.e[0] * t.e[1], q4 = t.e[0] * t.e[2], q5 = t.e[1] * t.e[2];
+      const double *Qj = ft.Q + QREC * j;
+      t.g += load4(Qj) * ee[0] + load4(Qj + 3) * ee[1] + load4(Qj + 6) * ee[2] +
+          load4(Qj + 9) * q3 + load4(Qj + 12) * q4 + load4(Qj + 15) * q5;
+      if (VIRIAL) {
+        const double *Qi = ft.Q + QREC * i;
+        t.g -= load4(Qi) * ee[0] + load4(Qi + 3) * ee[1] + load4(Qi + 6) * ee[2] +
+            load4(Qi + 9) * q3 + load4(Qi + 12) * q4 + load4(Qi + 15) * q5;
+      }
     } else if (STAB == 3) {
       t.g += matvec(ft.T + 9 * j, t.u);
       if (VIRIAL) t.g += matvec(Ti, t.u);

@@ -25,6 +25,10 @@
 
 #include "nospd_constitutive.h"
 
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+
 namespace NOSPD {
 
 enum class Stab { NONE, SILLING, HOURGLASS, WAN };
@@ -91,6 +95,94 @@ inline Vec3 hourglass_pair(double c_i, const Mat3 &H_i, double c_j, const Mat3 &
   const Vec3 yhat = Y / ry;
   const Vec3 zw = c_i * (U - H_i * xi) + c_j * (U - H_j * xi);
   return (zw.dot(yhat) / xi.norm()) * yhat;
+}
+
+/* ----------------------------------------------------------------------
+   Silling's springs on the residual of a quadratic fit
+   (stabilization/fit quadratic).
+
+   Silling's springs resist z = U - H xi, the part of the bond motion that
+   the linear fit F does not describe.  Under a curved but smooth motion
+   (a bending beam, the bulging face of a Taylor bar) z is the curvature's
+   share, 1/2 G:xi xi, and the springs store energy that no real material
+   stores: they act as a strain-gradient stiffness of the size of the
+   horizon, which holds a flowing metal back where its deformation bends.
+   With the quadratic fit the springs see only what the best fit
+       U ~ A phi(xi),  phi = (xi, xi_x^2, xi_y^2, xi_z^2, xi_x xi_y, xi_x xi_z, xi_y xi_z)
+   (least squares with the family's weights w = omega V) leaves:
+       z2 = U - A phi(xi),  A = N2 K2^-1,  N2 = sum w U phi^T,  K2 = sum w phi phi^T.
+   A zero-energy mode varies from point to point and is no quadratic, so
+   the springs still hold it.  E = 1/2 alpha sum w |z2|^2 is the squared
+   norm of a w-orthogonal projection of U, so its force state is
+   T<xi> = omega alpha z2 (no further term) and, with A = [H2 | Q],
+       T_i<xi> - T_j<-xi> = omega ((B_i + B_j) xi + (alpha_i + alpha_j) U
+                                   - (alpha_i Q_i - alpha_j Q_j) phi_q(xi)),
+   B = P K^-1 - alpha H2, phi_q the six quadratic entries (even in xi).
+   The stress still comes from the linear F: the patch test, the material
+   and every output are the linear fit's; only the springs change.
+------------------------------------------------------------------------- */
+
+namespace QuadraticFit {
+  constexpr int N = 9;        // basis functions
+  constexpr int PACKED = 45;  // K2^-1, upper triangle row by row
+  constexpr int RECORD = PACKED + 1;    // and a flag: 1 if the fit exists
+  constexpr double TOLERANCE = 1.0e-8;  // smallest / largest eigenvalue, scaled
+}    // namespace QuadraticFit
+
+// the six quadratic entries of phi(xi)
+inline void quadratic_terms(const double *e, double *q)
+{
+  q[0] = e[0] * e[0], q[1] = e[1] * e[1], q[2] = e[2] * e[2];
+  q[3] = e[0] * e[1], q[4] = e[0] * e[2], q[5] = e[1] * e[2];
+}
+
+inline int packed_index(int r, int c)
+{
+  if (r > c) std::swap(r, c);
+  return r * QuadraticFit::N - r * (r - 1) / 2 + (c - r);
+}
+
+/* K2^-1 from K2 (9 x 9, symmetric) into rec (QuadraticFit::RECORD).
+   Basis functions no bond spans (in 2D the out-of-plane ones) are left
+   out; the rest is scaled to unit diagonal and inverted from its
+   eigenvalues.  Where the smallest is below TOLERANCE times the largest
+   (too few or too regular partners, e.g. one layer of points) the fit
+   does not exist: flag 0, and the springs fall back to the linear fit. */
+inline bool quadratic_fit_inverse(const Eigen::Matrix<double, 9, 9> &K2, double *rec)
+{
+  using namespace QuadraticFit;
+  for (int k = 0; k < RECORD; k++) rec[k] = 0.0;
+  int idx[N], n = 0;
+  double scale[N];
+  for (int k = 0; k < N; k++)
+    if (K2(k, k) > 0.0) {
+      idx[n] = k;
+      scale[n++] = 1.0 / std::sqrt(K2(k, k));
+    }
+  if (n == 0) return false;
+  Eigen::MatrixXd S(n, n);
+  for (int a = 0; a < n; a++)
+    for (int b = 0; b < n; b++) S(a, b) = scale[a] * K2(idx[a], idx[b]) * scale[b];
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(S);
+  if (eig.info() != Eigen::Success) return false;
+  const Eigen::VectorXd lam = eig.eigenvalues();
+  if (!(lam(0) > TOLERANCE * lam(n - 1))) return false;
+  const Eigen::MatrixXd V = eig.eigenvectors();
+  const Eigen::MatrixXd Si = V * lam.cwiseInverse().asDiagonal() * V.transpose();
+  for (int a = 0; a < n; a++)
+    for (int b = a; b < n; b++) rec[packed_index(idx[a], idx[b])] = scale[a] * Si(a, b) * scale[b];
+  rec[PACKED] = 1.0;
+  return true;
+}
+
+/* A = N2 K2^-1 (3 x 9) from N2 (3 x 9) and a fit record */
+inline Eigen::Matrix<double, 3, 9> quadratic_fit(const Eigen::Matrix<double, 3, 9> &N2,
+                                                 const double *rec)
+{
+  Eigen::Matrix<double, 9, 9> K2i;
+  for (int r = 0; r < QuadraticFit::N; r++)
+    for (int c = 0; c < QuadraticFit::N; c++) K2i(r, c) = rec[packed_index(r, c)];
+  return N2.lazyProduct(K2i);
 }
 
 }    // namespace NOSPD

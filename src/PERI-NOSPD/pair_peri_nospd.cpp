@@ -61,9 +61,9 @@ static const char *law_keyword(Law law)
 
 PairPeriNospd::PairPeriNospd(LAMMPS *lmp) :
     Pair(lmp), fix_bonds(nullptr), strain_law(Law::SMALL), plane_mode(Plane::NONE),
-    stab(Stab::SILLING), stab_param(0.5), influence(NospdBondModel::CONSTANT), thickness(1.0),
+    stab(Stab::SILLING), stab_param(0.5), fit_quadratic(false), influence(NospdBondModel::CONSTANT), thickness(1.0),
     singular_tol(1.0e-4), damaged_tol(0.1), youngs(nullptr), poisson(nullptr), g0(nullptr),
-    stab_scalar(nullptr), cut(nullptr), nmax_work(0), bmat(nullptr), tmat(nullptr),
+    stab_scalar(nullptr), cut(nullptr), nmax_work(0), bmat(nullptr), tmat(nullptr), qmat(nullptr), qsums(nullptr),
     moments(nullptr), comm_tensors(1)
 {
   user_materials = std::make_unique<NospdUserMaterials>(lmp);
@@ -88,6 +88,8 @@ PairPeriNospd::~PairPeriNospd()
   memory->destroy(tmat);
   memory->destroy(moments);
   memory->destroy(temperature_base);
+  memory->destroy(qmat);
+  memory->destroy(qsums);
   if (allocated) {
     memory->destroy(setflag);
     memory->destroy(cutsq);
@@ -141,6 +143,7 @@ void PairPeriNospd::settings(int narg, char **arg)
   plane_mode = Plane::NONE;
   stab = Stab::SILLING;
   stab_param = 0.5;
+  fit_quadratic = false;
   influence = NospdBondModel::CONSTANT;
   thickness = 1.0;
   singular_tol = 1.0e-4;
@@ -184,6 +187,13 @@ void PairPeriNospd::settings(int narg, char **arg)
       } else
         error->all(FLERR, "{}: unknown stabilization '{}' (none, silling G, hourglass C, wan)",
                    cmd, v);
+    } else if (key == "stabilization/fit") {
+      need(1);
+      const std::string v = arg[iarg + 1];
+      if (v == "linear") fit_quadratic = false;
+      else if (v == "quadratic") fit_quadratic = true;
+      else error->all(FLERR, "{}: unknown stabilization/fit '{}' (linear, quadratic)", cmd, v);
+      iarg += 2;
     } else if (key == "influence") {
       need(1);
       const std::string v = arg[iarg + 1];
@@ -238,6 +248,10 @@ void PairPeriNospd::settings(int narg, char **arg)
                "is held to at least the intact families' tolerance", cmd, damaged_tol,
                singular_tol);
   damaged_tol = std::max(damaged_tol, singular_tol);
+  if (fit_quadratic && stab != Stab::SILLING)
+    error->all(FLERR, "{}: stabilization/fit quadratic applies to stabilization silling (its "
+               "springs), not to stabilization {}", cmd,
+               stab == Stab::NONE ? "none" : (stab == Stab::WAN ? "wan" : "hourglass"));
   if (domain->dimension == 3 && plane_given)
     error->all(FLERR, "{}: keyword plane applies to 2D only (dimension 2)", cmd);
   if (domain->dimension == 2 && !plane_given) plane_mode = Plane::STRAIN;
@@ -696,7 +710,7 @@ void PairPeriNospd::init_style()
     else if (stab == Stab::HOURGLASS) stab_scalar[i] = stab_param * c;
   }
   comm_tensors = (stab == Stab::WAN || stab == Stab::HOURGLASS) ? 2 : 1;
-  comm_forward = NOSPD::BREC + 9 * (comm_tensors - 1);
+  comm_forward = NOSPD::BREC + 9 * (comm_tensors - 1) + (quadratic_active() ? NOSPD::QREC : 0);
 
   // inelastic types: history in the bonds fix, a temperature source
   // user materials: formula laws go into lame[i].user, UMATs are opened
@@ -744,6 +758,7 @@ void PairPeriNospd::init_style()
   model.damaged_tol = damaged_tol;
   model.active = active.data();
   model.thickness = thickness;
+  model.quadratic = quadratic_active();
   for (int i = 1; i <= atom->ntypes; i++)
     if (active[i] && youngs[i] > 0.0)
       check_poisson(fmt::format("pair_style {} (type {}'s material)", force->pair_style, i),
@@ -899,7 +914,8 @@ void PairPeriNospd::ensure_bonds_fix()
 
 void PairPeriNospd::grow_work()
 {
-  if (atom->nmax <= nmax_work) return;
+  // the quadratic fit's arrays come with the setting, grown with the rest
+  if (atom->nmax <= nmax_work && (qmat != nullptr) == quadratic_active()) return;
   nmax_work = atom->nmax;
   memory->destroy(bmat);
   memory->destroy(tmat);
@@ -912,6 +928,15 @@ void PairPeriNospd::grow_work()
   memset(bmat[0], 0, sizeof(double) * NOSPD::BREC * nmax_work);
   memset(tmat[0], 0, sizeof(double) * 9 * (nmax_work + 1));
   memory->create(moments, nmax_work, 6, "pair:moments");
+  memory->destroy(qmat);
+  memory->destroy(qsums);
+  qmat = qsums = nullptr;
+  if (quadratic_active()) {
+    // Q's loads read a double past the last atom: a spare row
+    memory->create(qmat, nmax_work + 1, NOSPD::QREC, "pair:qmat");
+    memset(qmat[0], 0, sizeof(double) * NOSPD::QREC * (nmax_work + 1));
+    memory->create(qsums, nmax_work, NOSPD::QSUMS, "pair:qsums");
+  }
 }
 
 /* ---------------------------------------------------------------------- */
@@ -927,6 +952,7 @@ void PairPeriNospd::compute(int eflag, int vflag)
   for_ranges(atom->nlocal, true, [&](int from, int to, int, Tally &) {
     fix_bonds->compute_deformation(positions, mom, from, to);
   });
+  if (quadratic_active()) quadratic_pass();
   constitutive_pass(eflag);
   comm->forward_comm(this);
 
@@ -936,7 +962,8 @@ void PairPeriNospd::compute(int eflag, int vflag)
       virial ? force_pass<0, 1>(eflag) : force_pass<0, 0>(eflag);
       break;
     case Stab::SILLING:
-      virial ? force_pass<1, 1>(eflag) : force_pass<1, 0>(eflag);
+      if (quadratic_active()) virial ? force_pass<5, 1>(eflag) : force_pass<5, 0>(eflag);
+      else virial ? force_pass<1, 1>(eflag) : force_pass<1, 0>(eflag);
       break;
     case Stab::HOURGLASS:
       virial ? force_pass<2, 1>(eflag) : force_pass<2, 0>(eflag);
@@ -985,6 +1012,8 @@ void PairPeriNospd::constitutive_range(int from, int to, int eflag, Tally &t)
       // no force state of its own: no stress, no stabilization
       for (int k = 0; k < 9; k++) tmat[i][k] = pk1[i][k] = 0.0;
       for (int k = 0; k < NOSPD::BREC; k++) bmat[i][k] = 0.0;
+      if (qmat)
+        for (int k = 0; k < NOSPD::QREC; k++) qmat[i][k] = 0.0;
       wdens[i] = 0.0;
       continue;
     }
@@ -999,7 +1028,12 @@ void PairPeriNospd::constitutive_range(int from, int to, int eflag, Tally &t)
     const Mat3 A = P * Ki;
 
     Mat3 B = A;
-    if (stab == Stab::SILLING) {
+    double e2 = 0.0;    // with the quadratic fit: sum_j w |z2|^2
+    if (stab == Stab::SILLING && qmat) {
+      Mat3 H2;
+      quadratic_spring(i, H, H2, e2, eflag);
+      B -= stab_scalar[itype] * H2;
+    } else if (stab == Stab::SILLING) {
       B -= stab_scalar[itype] * H;
     } else if (stab == Stab::WAN) {
       const Mat3 S = NOSPD::wan_tensor(lame[itype], domain->dimension, plane_mode, Ki);
@@ -1016,7 +1050,8 @@ void PairPeriNospd::constitutive_range(int from, int to, int eflag, Tally &t)
       if (stab == Stab::SILLING || stab == Stab::WAN) {
         // 1/2 sum_j w z.S z = 1/2 S : Z
         const Mat3 Z = nonaffine_moment(i, H, Ki);
-        if (stab == Stab::SILLING) e += 0.5 * stab_scalar[itype] * Z.trace();
+        if (stab == Stab::SILLING && qmat) e += 0.5 * stab_scalar[itype] * e2;
+        else if (stab == Stab::SILLING) e += 0.5 * stab_scalar[itype] * Z.trace();
         else e += 0.5 * NOSPD::load(tmat[i]).cwiseProduct(Z).sum();    // S^T : Z = S : Z, Z symmetric
       }
       wdens[i] = e;
@@ -1172,6 +1207,52 @@ void PairPeriNospd::inelastic_failure(int i, NOSPD::ReturnStatus st, const Mat3 
    Z = M_UU - H K H^T, since sum_j w U (x) xi = H K
 ------------------------------------------------------------------------- */
 
+/* ----------------------------------------------------------------------
+   the quadratic fit (nospd_stabilization.h): its sums per owned atom
+------------------------------------------------------------------------- */
+
+namespace {
+NOSPD_KERNEL_CLONES void quadratic_range_kernel(const NOSPD::Positions &p, const int *first,
+                                                const int *bj, const double *bw, int from, int to,
+                                                double *out)
+{
+  for (int i = from; i < to; i++)
+    NOSPD::quadratic_sums(p, {bj, bw, first[i], first[i + 1]}, i, out + NOSPD::QSUMS * i);
+}
+}    // namespace
+
+void PairPeriNospd::quadratic_pass()
+{
+  for_ranges(atom->nlocal, true, [&](int from, int to, int, Tally &) {
+    quadratic_range_kernel(positions, fix_bonds->bond_first, fix_bonds->bond_j,
+                           fix_bonds->bond_w, from, to, qsums[0]);
+  });
+}
+
+/* atom i's fit A = [H2 | Q]: H2 for B, alpha Q into qmat (columns), and
+   e2 = sum_j w |U - A phi|^2 = sum_j w |U|^2 - A : N2 (the moments of the
+   energy pass, else 0).  Where the family has no quadratic fit, the linear
+   one: H2 = H, Q = 0, e2 = sum_j w |U - H xi|^2. */
+void PairPeriNospd::quadratic_spring(int i, const Mat3 &H, Mat3 &H2, double &e2, bool energy)
+{
+  const double *rec = fix_bonds->kinv2[i];
+  const double alpha = stab_scalar[atom->type[i]];
+  double *q = qmat[i];
+  if (rec[NOSPD::QuadraticFit::PACKED] == 0.0) {
+    H2 = H;
+    for (int k = 0; k < NOSPD::QREC; k++) q[k] = 0.0;
+    e2 = energy ? nonaffine_moment(i, H, NOSPD::load(fix_bonds->kinv[i])).trace() : 0.0;
+    return;
+  }
+  const Eigen::Map<const Eigen::Matrix<double, 3, 9>> N2(qsums[i]);
+  const Eigen::Matrix<double, 3, 9> A = NOSPD::quadratic_fit(N2, rec);
+  H2 = A.leftCols<3>();
+  for (int k = 0; k < 6; k++)
+    for (int r = 0; r < 3; r++) q[3 * k + r] = alpha * A(r, 3 + k);
+  e2 = 0.0;
+  if (energy) e2 = moments[i][0] + moments[i][1] + moments[i][2] - A.cwiseProduct(N2).sum();
+}
+
 NOSPD::Mat3 PairPeriNospd::nonaffine_moment(int i, const Mat3 &H, const Mat3 &Ki) const
 {
   const Mat3 M = NOSPD::load_sym(moments[i]);
@@ -1229,8 +1310,8 @@ template <int STAB, int VIRIAL>
 NOSPD_KERNEL_CLONES void force_range_kernel(const NOSPD::Positions &p, const int *first,
                                             const int *bj, const double *bw,
                                             const NOSPD::ForceTerms &ft, const double *ximom,
-                                            const double *umom, int from, int to,
-                                            const ForceOut &out)
+                                            const double *umom, const double *qsums, int from,
+                                            int to, const ForceOut &out)
 {
   for (int i = from; i < to; i++) {
     double f[3], v[6];
@@ -1241,9 +1322,15 @@ NOSPD_KERNEL_CLONES void force_range_kernel(const NOSPD::Positions &p, const int
       const double *m = ximom + 3 * i;
       for (int r = 0; r < 3; r++) f[r] += Bt[r] * m[0] + Bt[3 + r] * m[1] + Bt[6 + r] * m[2];
       const double *u = umom + 3 * i;
-      if (STAB == 1) {
+      if (STAB == 1 || STAB == 5) {
         const double si = Bt[9];    // the stabilization scalar
         for (int r = 0; r < 3; r++) f[r] += si * u[r];
+      }
+      if (STAB == 5) {
+        // - alpha_i Q_i sum_j w phi_q(xi)
+        const double *Qi = ft.Q + NOSPD::QREC * i, *q = qsums + NOSPD::QSUMS * i + 27;
+        for (int r = 0; r < 3; r++)
+          for (int k = 0; k < 6; k++) f[r] -= Qi[3 * k + r] * q[k];
       } else if (STAB == 3) {
         const double *Tt = ft.T + 9 * i;
         for (int r = 0; r < 3; r++) f[r] += Tt[r] * u[0] + Tt[3 + r] * u[1] + Tt[6 + r] * u[2];
@@ -1272,11 +1359,12 @@ template <int STAB, int VIRIAL> void PairPeriNospd::force_pass(int /*eflag*/)
 template <int STAB, int VIRIAL> void PairPeriNospd::force_range(int from, int to, Tally &t)
 {
   if (to <= from) return;
-  const NOSPD::ForceTerms ft{bmat[0], tmat[0]};
+  const NOSPD::ForceTerms ft{bmat[0], tmat[0], STAB == 5 ? qmat[0] : nullptr};
   std::vector<double> v(VIRIAL ? 6 * (to - from) : 0);
   force_range_kernel<STAB, VIRIAL>(positions, fix_bonds->bond_first, fix_bonds->bond_j,
                                    fix_bonds->bond_w, ft, fix_bonds->xi_moment[0],
-                                   fix_bonds->u_moment[0], from, to, {atom->f[0], v.data()});
+                                   fix_bonds->u_moment[0], STAB == 5 ? qsums[0] : nullptr, from,
+                                   to, {atom->f[0], v.data()});
   if (!VIRIAL) return;
   for (int i = from; i < to; i++) {
     const double *vi = v.data() + 6 * (i - from);
@@ -1326,6 +1414,8 @@ int PairPeriNospd::pack_forward_comm(int n, int *list, double *buf, int /*pbc_fl
     for (int k = 0; k < NOSPD::BREC; k++) buf[m++] = bmat[i][k];
     if (comm_tensors == 2)
       for (int k = 0; k < 9; k++) buf[m++] = tmat[i][k];
+    if (qmat)
+      for (int k = 0; k < NOSPD::QREC; k++) buf[m++] = qmat[i][k];
   }
   return m;
 }
@@ -1340,6 +1430,8 @@ void PairPeriNospd::unpack_forward_comm(int n, int first, double *buf)
     for (int k = 0; k < NOSPD::BREC; k++) bmat[i][k] = buf[m++];
     if (comm_tensors == 2)
       for (int k = 0; k < 9; k++) tmat[i][k] = buf[m++];
+    if (qmat)
+      for (int k = 0; k < NOSPD::QREC; k++) qmat[i][k] = buf[m++];
   }
 }
 
@@ -1407,6 +1499,8 @@ void PairPeriNospd::write_restart_settings(FILE *fp)
   fwrite(&layout, sizeof(int), 1, fp);
   int iv[4] = {static_cast<int>(strain_law), static_cast<int>(plane_mode),
                static_cast<int>(stab), influence};
+  // the quadratic fit in a bit of its own: files without it read as before
+  if (fit_quadratic) iv[2] |= 32;
   double dv[4] = {stab_param, thickness, singular_tol, damaged_tol};
   fwrite(iv, sizeof(int), 4, fp);
   fwrite(dv, sizeof(double), 4, fp);
@@ -1444,7 +1538,8 @@ void PairPeriNospd::read_restart_settings(FILE *fp)
   temperature_name = tname;
   strain_law = static_cast<Law>(iv[0]);
   plane_mode = static_cast<Plane>(iv[1]);
-  stab = static_cast<Stab>(iv[2]);
+  stab = static_cast<Stab>(iv[2] & 31);
+  fit_quadratic = (iv[2] & 32) != 0;
   influence = iv[3];
   stab_param = dv[0];
   thickness = dv[1];

@@ -82,6 +82,7 @@ class PairPeriNospd : public Pair {
   NOSPD::Plane plane_mode;
   NOSPD::Stab stab;
   double stab_param;     // Silling G or hourglass C
+  bool fit_quadratic;    // Silling's springs on the residual of a quadratic fit
   int influence;         // NospdBondModel::Influence
   double thickness;      // 2D: thickness carried by the volumes
   std::vector<double> wave_c;    // per type: micromodulus for the time step estimate
@@ -117,6 +118,13 @@ class PairPeriNospd : public Pair {
   // scalar (0 where K is singular); tmat the stabilization's tensor (Wan's
   // S or the hourglass H) transposed, with a spare row
   double **bmat, **tmat, **moments;
+  // the quadratic fit (stabilization/fit quadratic): per atom alpha Q (the
+  // fit's quadratic part, 6 columns of 3, forward-communicated, with a
+  // spare row) and per owned atom its sums (nospd_bond_sums.h, QSUMS)
+  double **qmat, **qsums;
+  bool quadratic_active() const { return fit_quadratic && stab == NOSPD::Stab::SILLING; }
+  void quadratic_pass();
+  void quadratic_spring(int i, const NOSPD::Mat3 &H, NOSPD::Mat3 &H2, double &e2, bool energy);
   static constexpr int STAB_SCALAR = 9;    // its place in bmat
   NOSPD::Positions positions{};    // this step's padded positions (pass 1 and 2)
   static void store_transposed(const NOSPD::Mat3 &M, double *to)

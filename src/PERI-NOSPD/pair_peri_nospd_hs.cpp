@@ -209,6 +209,9 @@ void PairPeriNospdHS::settings(int narg, char **arg)
     iarg += 2;
   }
   PairPeriNospd::settings((int) rest.size(), rest.data());
+  if (fit_quadratic)
+    error->all(FLERR, "pair_style {}: stabilization/fit is a keyword of peri/nospd (the "
+               "bond-associated deformation gradients need no springs)", force->pair_style);
   stab_on = stabilized;
   if (!stab_on) stab = NOSPD::Stab::NONE;
   // new settings may change every pattern

@@ -42,7 +42,7 @@ NOSPD_KERNEL_CLONES void forces(const Positions &p, const BondList &bl, const Fo
 }
 
 struct Cloud {
-  std::vector<double> x, x0, w, B, T;    // B: BREC records (B^T, c)
+  std::vector<double> x, x0, w, B, T, Q;    // B: BREC records (B^T, c); Q: QREC per point
   std::vector<int> j;
   int n = 0;
 };
@@ -74,6 +74,9 @@ Cloud make_cloud(int n, unsigned seed)
   for (auto &v : c.B) v = u(gen);
   for (auto &v : c.T) v = u(gen);
   c.T.back() = std::nan("");
+  c.Q.resize(QREC * n + 1);
+  for (auto &v : c.Q) v = u(gen);
+  c.Q.back() = std::nan("");
   for (int a = 0; a < n; a++) c.B[BREC * a + 9] = pos(gen);
   return c;
 }
@@ -159,7 +162,13 @@ template <int STAB> void naive_force(const Cloud &c, double *f, double *v)
     for (int r = 0; r < 3; r++) {
       g[r] = 0.0;
       for (int k = 0; k < 3; k++) g[r] += (c.B[BREC * j + 3 * k + r] + c.B[3 * k + r]) * e[k];
-      if (STAB == 1) g[r] += (sc(c, 0) + sc(c, j)) * uu[r];
+      if (STAB == 1 || STAB == 5) g[r] += (sc(c, 0) + sc(c, j)) * uu[r];
+      if (STAB == 5) {
+        // (alpha_j Q_j - alpha_i Q_i) phi_q(xi), Q's columns stored one after the other
+        const double q[6] = {e[0] * e[0], e[1] * e[1], e[2] * e[2],
+                             e[0] * e[1], e[0] * e[2], e[1] * e[2]};
+        for (int k = 0; k < 6; k++) g[r] += (c.Q[QREC * j + 3 * k + r] - c.Q[3 * k + r]) * q[k];
+      }
       if (STAB == 3)
         for (int k = 0; k < 3; k++) g[r] += (c.T[9 * j + 3 * k + r] + c.T[3 * k + r]) * uu[k];
     }
@@ -194,7 +203,7 @@ template <int STAB> void check_force_paths(unsigned seed)
   for (auto &v : c.x) v += u(gen);
   const Positions p{c.x.data(), c.x0.data()};
   const BondList bl{c.j.data(), c.w.data(), 0, static_cast<int>(c.j.size())};
-  const ForceTerms ft{c.B.data(), c.T.data()};
+  const ForceTerms ft{c.B.data(), c.T.data(), c.Q.data()};
 
   double fv[3], v[6], f[3], fref[3], vref[6];
   forces<STAB, 1>(p, bl, ft, 0, fv, v);
@@ -205,15 +214,22 @@ template <int STAB> void check_force_paths(unsigned seed)
 
   if (STAB == 2) return;    // the hourglass term has no factored i-term
   // the i-terms the caller adds from the moments
-  double mx[3] = {0, 0, 0}, mu[3] = {0, 0, 0};
-  for (size_t b = 0; b < c.j.size(); b++)
+  double mx[3] = {0, 0, 0}, mu[3] = {0, 0, 0}, mq[6] = {0, 0, 0, 0, 0, 0};
+  for (size_t b = 0; b < c.j.size(); b++) {
+    double e[3];
     for (int d = 0; d < 3; d++) {
-      mx[d] += c.w[b] * (c.x0[3 * c.j[b] + d] - c.x0[d]);
-      mu[d] += c.w[b] * ((c.x[3 * c.j[b] + d] - c.x[d]) - (c.x0[3 * c.j[b] + d] - c.x0[d]));
+      e[d] = c.x0[3 * c.j[b] + d] - c.x0[d];
+      mx[d] += c.w[b] * e[d];
+      mu[d] += c.w[b] * ((c.x[3 * c.j[b] + d] - c.x[d]) - e[d]);
     }
+    const double q[6] = {e[0] * e[0], e[1] * e[1], e[2] * e[2], e[0] * e[1], e[0] * e[2], e[1] * e[2]};
+    for (int k = 0; k < 6; k++) mq[k] += c.w[b] * q[k];
+  }
   for (int r = 0; r < 3; r++) {
     for (int k = 0; k < 3; k++) f[r] += c.B[3 * k + r] * mx[k];
-    if (STAB == 1) f[r] += sc(c, 0) * mu[r];
+    if (STAB == 1 || STAB == 5) f[r] += sc(c, 0) * mu[r];
+    if (STAB == 5)
+      for (int k = 0; k < 6; k++) f[r] -= c.Q[3 * k + r] * mq[k];
     if (STAB == 3)
       for (int k = 0; k < 3; k++) f[r] += c.T[3 * k + r] * mu[k];
   }
@@ -226,6 +242,43 @@ TEST(BondSums, ForcePathsAgreeNone) { check_force_paths<0>(11); }
 TEST(BondSums, ForcePathsAgreeSilling) { check_force_paths<1>(12); }
 TEST(BondSums, ForcePathsAgreeHourglass) { check_force_paths<2>(13); }
 TEST(BondSums, ForcePathsAgreeWan) { check_force_paths<3>(14); }
+TEST(BondSums, ForcePathsAgreeQuadraticFit) { check_force_paths<5>(15); }
+
+namespace {
+NOSPD_KERNEL_CLONES void quadratic(const Positions &p, const BondList &bl, int i, double *out)
+{
+  quadratic_sums(p, bl, i, out);
+}
+}    // namespace
+
+// the quadratic fit's sums against a bond-by-bond sum: N2 = sum w U phi^T
+// column by column, then sum w phi_q
+TEST(BondSums, QuadraticSums)
+{
+  Cloud c = make_cloud(101, 31);
+  std::mt19937 gen(32);
+  std::uniform_real_distribution<double> u(-0.05, 0.05);
+  for (size_t k = 0; k + 1 < c.x.size(); k++) c.x[k] += u(gen);
+  const Positions p{c.x.data(), c.x0.data()};
+  const BondList bl{c.j.data(), c.w.data(), 0, static_cast<int>(c.j.size())};
+  double out[QSUMS], ref[QSUMS] = {};
+  quadratic(p, bl, 0, out);
+  for (size_t b = 0; b < c.j.size(); b++) {
+    const int j = c.j[b];
+    double e[3], uu[3];
+    for (int d = 0; d < 3; d++) {
+      e[d] = c.x0[3 * j + d] - c.x0[d];
+      uu[d] = (c.x[3 * j + d] - c.x[d]) - e[d];
+    }
+    const double phi[9] = {e[0], e[1], e[2], e[0] * e[0], e[1] * e[1], e[2] * e[2],
+                           e[0] * e[1], e[0] * e[2], e[1] * e[2]};
+    for (int k = 0; k < 9; k++)
+      for (int r = 0; r < 3; r++) ref[3 * k + r] += c.w[b] * uu[r] * phi[k];
+    for (int k = 0; k < 6; k++) ref[27 + k] += c.w[b] * phi[3 + k];
+  }
+  EXPECT_LT(rel_diff(out, ref, 27), 1e-13);
+  EXPECT_LT(rel_diff(out + 27, ref + 27, 6), 1e-13);
+}
 
 TEST(BondSums, HourglassVanishesOnAffineFieldAndCollapsedBond)
 {

@@ -945,6 +945,82 @@ TEST(WanTensor, TwoDimensionalPlaneStressAndStrain)
 // the local F predicts (z along yhat, f . z > 0), f pulls i toward j and -f
 // pulls j back toward i: the force opposes the hourglass mode.  So the
 // restoring direction is f . z > 0 (for H = 0: f . U > 0).
+/* The quadratic fit's operator (stabilization/fit quadratic): K2 K2^-1 = I
+   over the basis functions the family spans; in 2D the out-of-plane ones
+   are left out; a family on one line has no quadratic fit. */
+namespace {
+Eigen::Matrix<double, 9, 9> fit_matrix(const std::vector<NOSPD::Vec3> &xi)
+{
+  Eigen::Matrix<double, 9, 9> K2 = Eigen::Matrix<double, 9, 9>::Zero();
+  for (const auto &e : xi) {
+    double phi[9] = {e[0], e[1], e[2]};
+    NOSPD::quadratic_terms(phi, phi + 3);
+    const Eigen::Map<const Eigen::Matrix<double, 9, 1>> p(phi);
+    K2 += p * p.transpose();
+  }
+  return K2;
+}
+std::vector<NOSPD::Vec3> grid_family(int dim, double dx, double delta)
+{
+  std::vector<NOSPD::Vec3> xi;
+  const int m = (int) std::ceil(delta / dx);
+  for (int a = -m; a <= m; a++)
+    for (int b = -m; b <= m; b++)
+      for (int c = (dim == 3 ? -m : 0); c <= (dim == 3 ? m : 0); c++) {
+        const NOSPD::Vec3 e(a * dx, b * dx, c * dx);
+        if (e.norm() > 0.0 && e.norm() <= delta) xi.push_back(e);
+      }
+  return xi;
+}
+}    // namespace
+
+TEST(QuadraticFit, InverseOverTheSpannedBasis)
+{
+  for (int dim : {3, 2}) {
+    // a one-sided family (a point on a free surface) with a millimetre spacing
+    std::vector<NOSPD::Vec3> xi;
+    for (const auto &e : grid_family(dim, 1e-3, 3.01e-3))
+      if (e[0] >= 0.0) xi.push_back(e);
+    const auto K2 = fit_matrix(xi);
+    double rec[NOSPD::QuadraticFit::RECORD];
+    ASSERT_TRUE(NOSPD::quadratic_fit_inverse(K2, rec));
+    EXPECT_EQ(rec[NOSPD::QuadraticFit::PACKED], 1.0);
+    Eigen::Matrix<double, 9, 9> K2i;
+    for (int r = 0; r < 9; r++)
+      for (int c = 0; c < 9; c++) K2i(r, c) = rec[NOSPD::packed_index(r, c)];
+    // the basis functions the family spans: all in 3D, xi_x xi_y xi_x^2 xi_y^2 xi_x xi_y in 2D
+    std::vector<int> in = {0, 1, 2, 3, 4, 5, 6, 7, 8};
+    if (dim == 2) in = {0, 1, 3, 4, 6};
+    const Eigen::Matrix<double, 9, 9> P = K2 * K2i;
+    for (int r : in)
+      for (int c : in) EXPECT_NEAR(P(r, c), r == c ? 1.0 : 0.0, 1e-10) << r << " " << c;
+    if (dim == 2)
+      for (int k : {2, 5, 7, 8})
+        for (int c = 0; c < 9; c++) EXPECT_EQ(K2i(k, c), 0.0);
+    // the fit of an exact quadratic field is exact
+    Eigen::Matrix<double, 3, 9> Atrue = Eigen::Matrix<double, 3, 9>::Zero();
+    for (int r = 0; r < 3; r++)
+      for (int k : in) Atrue(r, k) = 0.01 * (1 + r + k) * (k < 3 ? 1.0 : 1e3);
+    Eigen::Matrix<double, 3, 9> N2 = Eigen::Matrix<double, 3, 9>::Zero();
+    for (const auto &e : xi) {
+      double phi[9] = {e[0], e[1], e[2]};
+      NOSPD::quadratic_terms(phi, phi + 3);
+      const Eigen::Map<const Eigen::Matrix<double, 9, 1>> p(phi);
+      N2 += (Atrue * p) * p.transpose();
+    }
+    const auto A = NOSPD::quadratic_fit(N2, rec);
+    EXPECT_LT((A - Atrue).norm(), 1e-9 * Atrue.norm()) << "dim " << dim;
+  }
+  // a point on the face of a plate two layers thick: its partners have
+  // xi_z = 0 or dx only, so xi_z^2 = dx xi_z and no quadratic is fit
+  std::vector<NOSPD::Vec3> plate;
+  for (const auto &e : grid_family(3, 1e-3, 3.01e-3))
+    if (e[2] >= 0.0 && e[2] <= 1.5e-3) plate.push_back(e);
+  double rec[NOSPD::QuadraticFit::RECORD];
+  EXPECT_FALSE(NOSPD::quadratic_fit_inverse(fit_matrix(plate), rec));
+  EXPECT_EQ(rec[NOSPD::QuadraticFit::PACKED], 0.0);
+}
+
 TEST(Hourglass, VanishesForHomogeneousDeformation)
 {
   Rng rng(91);

@@ -148,6 +148,13 @@ TEST_F(BadInput, UnknownKeyword)
   EXPECT_THAT(error_of(lmp, "pair_style peri/nospd stabilization silling -1"),
               HasSubstr("stabilization silling value must be > 0, got -1"));
   EXPECT_THAT(error_of(lmp, "pair_style peri/nospd plane stress"), HasSubstr("plane applies to 2D only"));
+  EXPECT_THAT(error_of(lmp, "pair_style peri/nospd stabilization/fit cubic"),
+              HasSubstr("unknown stabilization/fit 'cubic' (linear, quadratic)"));
+  EXPECT_THAT(error_of(lmp, "pair_style peri/nospd stabilization hourglass 0.2 stabilization/fit quadratic"),
+              HasSubstr("stabilization/fit quadratic applies to stabilization silling (its springs), "
+                        "not to stabilization hourglass"));
+  EXPECT_THAT(error_of(lmp, "pair_style peri/nospd/hs stabilization/fit quadratic"),
+              HasSubstr("stabilization/fit is a keyword of peri/nospd"));
 }
 
 // families are built once: a horizon changed between runs is an error
@@ -346,6 +353,7 @@ TEST_F(BadInput, RepeatedPairStyleTakesDefaults)
   const std::vector<std::pair<std::string, std::string>> cases = {
       {"peri/nospd stabilization hourglass 0.2 strain finite", "peri/nospd"},
       {"peri/nospd influence inverse", "peri/nospd"},
+      {"peri/nospd stabilization/fit quadratic", "peri/nospd"},
       {"peri/nospd", "peri/nospd influence inverse"},
       {"peri/nospd/hs form I ratio 1.5 stabilization silling 0.5", "peri/nospd/hs"}};
   for (const auto &c : cases) {

@@ -24,12 +24,13 @@ namespace {
 struct Variant {
   int dim;
   std::string strain;    // small finite svk neohookean
-  std::string stab;      // "none", "silling 0.5", "hourglass 0.2", "wan"
+  std::string stab;      // "none", "silling 0.5", "hourglass 0.2", "wan",
+                         // "silling 0.5 stabilization/fit quadratic"
   std::string name() const
   {
     std::string s = std::to_string(dim) + "D_" + strain + "_" + stab;
     for (auto &c : s)
-      if (c == ' ' || c == '.') c = '_';
+      if (c == ' ' || c == '.' || c == '/') c = '_';
     return s;
   }
   bool potential() const { return stab.rfind("hourglass", 0) != 0; }
@@ -449,6 +450,110 @@ TEST(HourglassPairs, MatchEachEndsSums)
       }
 }
 
+/* Silling's springs on the quadratic fit's residual: under a smooth curved
+   motion, y = X + H X + 1/2 G:XX + c (a quadratic field, here of 1 %
+   strain and a curvature of 1 % per horizon), every family with a quadratic fit
+   (all points of the block, surfaces and corners included) has z2 = 0,
+   so the springs store nothing and push nothing: energy and forces are
+   those of the unstabilized model.  The springs on the linear fit store
+   the curvature's share, z = 1/2 G:xi xi, as energy. */
+TEST(QuadraticFit, CurvedMotionCostsTheSpringsNothing)
+{
+  for (int dim : {3, 2}) {
+    SCOPED_TRACE("dim " + std::to_string(dim));
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> U(-1.0, 1.0);
+    Mat3 H;
+    for (int r = 0; r < 3; r++)
+      for (int c = 0; c < 3; c++) H(r, c) = 0.01 * U(rng);
+    double G[3][3][3];    // symmetric in the last two
+    for (int r = 0; r < 3; r++)
+      for (int a = 0; a < 3; a++)
+        for (int b = a; b < 3; b++) G[r][a][b] = G[r][b][a] = 0.01 / (3.01e-3) * U(rng);
+    auto run = [&](const std::string &stab, double &pe) {
+      LAMMPS *lmp = open_lammps();
+      Block blk;
+      blk.dim = dim;
+      blk.n = dim == 3 ? 9 : 15;
+      blk.settings = "strain finite stabilization " + stab;
+      make_block(lmp, blk);
+      cmd(lmp, "run 0");
+      double **x = lmp->atom->x, **x0 = lmp->atom->x0;
+      for (int i = 0; i < lmp->atom->nlocal; i++) {
+        const double X[3] = {x0[i][0] - 4e-3, x0[i][1] - 4e-3, dim == 3 ? x0[i][2] - 4e-3 : 0.0};
+        for (int r = 0; r < dim; r++) {
+          double u = 0.0;
+          for (int a = 0; a < dim; a++) {
+            u += H(r, a) * X[a];
+            for (int b = 0; b < dim; b++) u += 0.5 * G[r][a][b] * X[a] * X[b];
+          }
+          x[i][r] = x0[i][r] + u;
+        }
+      }
+      cmd(lmp, "run 0");
+      pe = lmp->force->pair->eng_vdwl;
+      auto f = by_tag(lmp, lmp->atom->f);
+      delete lmp;
+      return f;
+    };
+    double pe_none, pe_lin, pe_quad;
+    const auto f_none = run("none", pe_none);
+    const auto f_lin = run("silling 0.5", pe_lin);
+    const auto f_quad = run("silling 0.5 stabilization/fit quadratic", pe_quad);
+    double fmax = 0.0, dquad = 0.0, dlin = 0.0;
+    for (size_t t = 0; t < f_none.size(); t++)
+      for (int k = 0; k < 3; k++) {
+        fmax = std::max(fmax, std::abs(f_none[t][k]));
+        dquad = std::max(dquad, std::abs(f_quad[t][k] - f_none[t][k]));
+        dlin = std::max(dlin, std::abs(f_lin[t][k] - f_none[t][k]));
+      }
+    ASSERT_GT(pe_none, 0.0);
+    EXPECT_LT(std::abs(pe_quad - pe_none), 1e-10 * pe_none);
+    EXPECT_LT(dquad, 1e-9 * fmax);
+    // the linear fit's springs: the curvature costs energy and force
+    EXPECT_GT(pe_lin - pe_none, 1e-3 * pe_none);
+    EXPECT_GT(dlin, 1e-2 * fmax);
+  }
+}
+
+/* The quadratic fit's springs on a step that wants neither energy nor
+   virial (pair->compute(0, 0): the i-terms from the point's sums) against
+   the evaluation with both (every term bond by bond), after random
+   displacements, free surfaces, 3D and 2D. */
+TEST(QuadraticFit, StepWithoutVirialMatchesStepWithIt)
+{
+  for (int dim : {3, 2}) {
+    SCOPED_TRACE("dim " + std::to_string(dim));
+    LAMMPS *lmp = open_lammps();
+    Block blk;
+    blk.dim = dim;
+    blk.n = dim == 3 ? 9 : 15;
+    blk.settings = "strain finite stabilization silling 0.5 stabilization/fit quadratic";
+    make_block(lmp, blk);
+    cmd(lmp, "run 0");
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> U(-0.02 * blk.dx, 0.02 * blk.dx);
+    double **x = lmp->atom->x, **x0 = lmp->atom->x0;
+    for (int i = 0; i < lmp->atom->nlocal; i++)
+      for (int k = 0; k < dim; k++) x[i][k] = x0[i][k] + U(rng);
+    cmd(lmp, "run 0");
+    const auto with = by_tag(lmp, lmp->atom->f);
+    double **f = lmp->atom->f;
+    for (int i = 0; i < lmp->atom->nlocal; i++) f[i][0] = f[i][1] = f[i][2] = 0.0;
+    lmp->force->pair->compute(0, 0);
+    const auto without = by_tag(lmp, lmp->atom->f);
+    double fmax = 0.0, d = 0.0;
+    for (size_t t = 0; t < with.size(); t++)
+      for (int k = 0; k < 3; k++) {
+        fmax = std::max(fmax, std::abs(with[t][k]));
+        d = std::max(d, std::abs(with[t][k] - without[t][k]));
+      }
+    ASSERT_GT(fmax, 0.0);
+    EXPECT_LT(d, 1e-12 * fmax);
+    delete lmp;
+  }
+}
+
 std::vector<Variant> all_variants()
 {
   std::vector<Variant> v;
@@ -456,6 +561,10 @@ std::vector<Variant> all_variants()
     for (const char *strain : {"small", "finite", "svk", "neohookean"})
       for (const char *stab : {"none", "silling 0.5", "hourglass 0.2", "wan"})
         v.push_back({dim, strain, stab});
+  // Silling's springs on the quadratic fit's residual
+  for (int dim : {3, 2})
+    for (const char *strain : {"small", "finite"})
+      v.push_back({dim, strain, "silling 0.5 stabilization/fit quadratic"});
   return v;
 }
 
