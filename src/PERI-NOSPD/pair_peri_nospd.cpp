@@ -1264,7 +1264,7 @@ void PairPeriNospd::law_failure(int i, const Mat3 &F) const
     error->one(FLERR, "pair_style {}: the energy formula of type {} (W = '{}') gives a "
                "non-finite stress at atom {} on step {} (det F = {:.6g}){}", force->pair_style,
                atom->type[i], user_materials->spec(atom->type[i]).energy, atom->tag[i],
-               update->ntimestep, J, fix_bonds->unstable_cause());
+               update->ntimestep, J, fix_bonds->user_law_cause("formula"));
   error->one(FLERR, "pair_style {}: atom {} on step {} has det F = {:.6g}: the "
              "finite-strain law is undefined for an inverted or collapsed family{}",
              force->pair_style, atom->tag[i], update->ntimestep, J, fix_bonds->unstable_cause());
@@ -1313,7 +1313,7 @@ void PairPeriNospd::umat_failure(int i, NOSPD::UmatStatus st, const Mat3 &F) con
   if (st == NOSPD::UmatStatus::NONFINITE)
     error->one(FLERR, "pair_style {}: the UMAT of type {} ({}) returned a non-finite stress, "
                "energy or state variable at atom {} on step {}{}", force->pair_style, itype, lib,
-               atom->tag[i], update->ntimestep, fix_bonds->unstable_cause());
+               atom->tag[i], update->ntimestep, fix_bonds->user_law_cause("UMAT"));
   law_failure(i, F);
 }
 
