@@ -1173,11 +1173,17 @@ void FixNospdBonds::post_integrate()
 
 /* the likely cause, for the instability errors of the fix and the pair style */
 
-std::string FixNospdBonds::unstable_cause() const
+double FixNospdBonds::smallest_stable_timestep() const
 {
   double est = 0.0;
   for (size_t t = 1; t < dt_reported.size(); t++)
     if (dt_reported[t] < BIG && (est == 0.0 || dt_reported[t] < est)) est = dt_reported[t];
+  return est;
+}
+
+std::string FixNospdBonds::unstable_cause() const
+{
+  const double est = smallest_stable_timestep();
   if (est > 0.0 && update->dt > est)
     return fmt::format(": timestep {:.4g} exceeds the stable estimate {:.4g} (see the log); "
                        "reduce it", update->dt, est);
@@ -1189,6 +1195,18 @@ std::string FixNospdBonds::unstable_cause() const
                        periodic ? ", or for displacements beyond half the periodic box length "
                                   "(a large shear or rotation of a periodic body)" : "");
   return "";
+}
+
+/* a stable run hands a user law finite deformations: a contact or an
+   overlap does not make its value non-finite, the law does at that F */
+
+std::string FixNospdBonds::user_law_cause(const std::string &law) const
+{
+  const double est = smallest_stable_timestep();
+  if (est > 0.0 && update->dt > est) return unstable_cause();
+  return fmt::format(": the {} itself gives it at this finite deformation; look in it for a "
+                     "division by zero, a logarithm, root or power of a negative or zero "
+                     "argument, or an overflow", law);
 }
 
 /* ----------------------------------------------------------------------

@@ -90,6 +90,11 @@ class FixNospdBonds : public FixPeriNeigh {
   bigint families_serial = 0;    // changes whenever families are built anew
   // the likely cause of an instability, for error messages ("" if unknown)
   std::string unstable_cause() const;
+  // the same for a non-finite value from a user law (formula, UMAT): the
+  // law itself, unless the time step was past the stable estimate
+  std::string user_law_cause(const std::string &law) const;
+  // the smallest of those estimates over the types (0: none)
+  double smallest_stable_timestep() const;
   // the stable time step estimate of a type at the last run setup (0: none)
   double stable_timestep(int type) const
   {

@@ -621,6 +621,7 @@ struct StateOutput {
   Mat3 P;              // sum_j beta_j P_j: the family's mean stress
   double W = 0.0;      // sum_j beta_j W(F_j): stored-energy density
   int bad = -2;        // on failure: slot whose law is undefined (-1: the family's F)
+  double bad_J = 0.0;  // on failure: det F of that slot (> 0: the law, not F, failed)
   int fallback = 0;    // bonds that used the family's F
 };
 
@@ -790,6 +791,7 @@ bool evaluate_families(const BondPattern &p, HSForm form, Law law, Plane plane,
           if (!(in[l].bond_law ? in[l].bond_law->stress(j, F, P, W)
                                : first_piola(law, plane, *in[l].m, F, P, W))) {
             out[l].bad = j;
+            out[l].bad_J = F.determinant();
             return false;
           }
           out[l].P += p.beta[j] * P;
@@ -830,6 +832,7 @@ bool evaluate_families(const BondPattern &p, HSForm form, Law law, Plane plane,
       if (!(in[l].bond_law ? in[l].bond_law->stress(-1, F, P, W)
                            : first_piola(law, plane, *in[l].m, F, P, W))) {
         out[l].bad = -1;
+        out[l].bad_J = F.determinant();
         return false;
       }
       out[l].F = F;

@@ -16,7 +16,7 @@
 #include "lattice.h"
 #include "memory.h"
 #include "modify.h"
-#include "potential_file_reader.h"
+#include "tokenizer.h"
 #include "update.h"
 #include "variable.h"
 
@@ -27,6 +27,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <utility>
 #include <vector>
 
 using namespace LAMMPS_NS;
@@ -48,6 +51,17 @@ static const char cite_nospd[] =
 
 static constexpr const char *BONDS_FIX_ID = "NOSPD_BONDS";
 static constexpr double BIG = 1.0e300;
+
+/* ----------------------------------------------------------------------
+   a whole word read by strtod: a number, inf and nan included
+------------------------------------------------------------------------- */
+
+static bool parses_as_number(const char *word)
+{
+  char *end = nullptr;
+  strtod(word, &end);
+  return end != word && *end == '\0';
+}
 
 // a law's name as the strain keyword gives it, for messages
 static const char *law_keyword(Law law)
@@ -151,7 +165,8 @@ void PairPeriNospd::settings(int narg, char **arg)
   temperature_kind = TEMP_NONE;
   temperature_name.clear();
   int iarg = 0;
-  bool plane_given = false, singular_given = false, damaged_given = false;
+  bool plane_given = false, thickness_given = false, singular_given = false,
+       damaged_given = false;
   while (iarg < narg) {
     const std::string key = arg[iarg];
     auto need = [&](int n) {
@@ -213,6 +228,7 @@ void PairPeriNospd::settings(int narg, char **arg)
       need(1);
       thickness = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
       if (!(thickness > 0.0)) error->all(FLERR, "{}: thickness must be > 0, got {}", cmd, arg[iarg + 1]);
+      thickness_given = true;
       iarg += 2;
     } else if (key == "singular_tol" || key == "damaged_tol") {
       need(1);
@@ -252,8 +268,11 @@ void PairPeriNospd::settings(int narg, char **arg)
     error->all(FLERR, "{}: stabilization/fit quadratic applies to stabilization silling (its "
                "springs), not to stabilization {}", cmd,
                stab == Stab::NONE ? "none" : (stab == Stab::WAN ? "wan" : "hourglass"));
-  if (domain->dimension == 3 && plane_given)
-    error->all(FLERR, "{}: keyword plane applies to 2D only (dimension 2)", cmd);
+  // a 3D point volume is a volume: a thickness would be ignored without a word
+  for (const auto &given : {std::make_pair("plane", plane_given),
+                            std::make_pair("thickness", thickness_given)})
+    if (domain->dimension == 3 && given.second)
+      error->all(FLERR, "{}: keyword {} applies to 2D only (dimension 2)", cmd, given.first);
   if (domain->dimension == 2 && !plane_given) plane_mode = Plane::STRAIN;
   if (domain->dimension == 3) plane_mode = Plane::NONE;
 }
@@ -305,22 +324,27 @@ void PairPeriNospd::coeff(int narg, char **arg)
   NospdUserMaterials::Spec us;
   bool thermal_ref_given = false;    // by a thermal keyword of the file or the line
   if (has_material) {
-    std::vector<std::string> words;
-    if (utils::is_double(arg[2])) {
-      E = utils::numeric(FLERR, arg[2], false, lmp);
-      nu = utils::numeric(FLERR, arg[3], false, lmp);
+    std::string where = cmd;    // names the file entry the numbers come from
+    if (utils::is_double(arg[2]) || parses_as_number(arg[2])) {
+      E = inline_number(cmd, "Young's modulus E", arg[2]);
+      nu = inline_number(cmd, "Poisson ratio nu", arg[3]);
       name = "inline";
     } else {
       name = arg[3];
-      read_material_file(arg[2], name, E, nu, G0, words);
-      if (!words.empty())
-        parse_inelastic(words, fl, th, us, thermal_ref_given,
+      const FileMaterial m = read_material_file(arg[2], name);
+      where = fmt::format("{}: material '{}' of file {} (line {})", cmd, name, arg[2], m.line);
+      check_file_material(where, m);
+      E = m.E;
+      nu = m.nu;
+      G0 = m.G0;
+      if (!m.extra.empty())
+        parse_inelastic(m.extra, fl, th, us, thermal_ref_given,
                         fmt::format("material {} in {}", name, arg[2]));
     }
-    words.assign(arg + 5, arg + narg);
+    check_modulus(where, E);
+    check_poisson(where, nu);
+    const std::vector<std::string> words(arg + 5, arg + narg);
     parse_inelastic(words, fl, th, us, thermal_ref_given, cmd);
-    if (!(E > 0.0)) error->all(FLERR, "{}: Young's modulus E must be > 0, got {}", cmd, E);
-    check_poisson(cmd, nu);
   }
 
   int count = 0, nmat = 0;
@@ -569,47 +593,221 @@ static std::vector<std::string> split_quoted(const std::string &text)
   return words;
 }
 
-/* ---------------------------------------------------------------------- */
+/* ----------------------------------------------------------------------
+   Material files are read here, line by line with std::getline, not with
+   LAMMPS's PotentialFileReader: its 1024-byte line buffer hung on a longer
+   comment line, joined the rest of a long comment to the next entry and
+   cut a long entry without a word.  The grammar is the one that reader
+   gave: '#' starts a comment anywhere (in quotes too); an entry with fewer
+   than five words continues on the next line with words; the first line's
+   DATE: and UNITS: tags are logged and checked; the file is looked up as
+   given, then in $LAMMPS_POTENTIALS.  Only rank 0 reads.
+------------------------------------------------------------------------- */
 
-void PairPeriNospd::read_material_file(const std::string &file, const std::string &name,
-                                       double &E, double &nu, double &G0,
-                                       std::vector<std::string> &extra)
+namespace {
+
+constexpr const char *MATERIAL_FILE = "peri/nospd material potential file";
+constexpr int MATERIAL_WORDS = 5;    // name E nu density G0
+const char *const MATERIAL_FIELDS[] = {"E", "nu", "density", "G0"};
+
+// the word after `tag` on a potential file's first line ("" if none)
+std::string header_tag(const std::string &first, const std::string &tag)
 {
-  double vals[3] = {0.0, 0.0, 0.0};
-  int found = 0;
+  Tokenizer words(first);
+  while (words.has_next())
+    if (words.next() == tag && words.has_next()) return words.next();
+  return "";
+}
+
+// an entry's words (joined over its lines) and the lines it spans
+struct FileEntry {
+  std::vector<std::string> words;
+  int first = 0, last = 0;
+};
+
+class MaterialFile {
+ public:
+  MaterialFile(LAMMPS *lmp, const std::string &file, const std::string &cmd) :
+      lmp(lmp), file(file), cmd(cmd)
+  {
+    open();
+  }
+  bool next(FileEntry &entry);
+  void numbers(const FileEntry &entry, double *vals) const;
+
+ private:
+  LAMMPS *lmp;
+  std::string file, cmd;
+  std::ifstream in;
+  int line = 0;
+  void open();
+  void check_header(const std::string &path);
+  [[noreturn]] void entry_error(const FileEntry &entry, const std::string &what) const;
+};
+
+void MaterialFile::open()
+{
+  const std::string path = utils::get_potential_file_path(file);
+  if (path.empty())
+    lmp->error->one(FLERR, "cannot open {} {}: {}", MATERIAL_FILE, file, utils::getsyserror());
+  // a directory opens (fopen, ifstream) but reads as empty: say so, not
+  // that the material is not in it
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec))
+    lmp->error->one(FLERR, "{}: material file {} is a directory, not a file", cmd, path);
+  check_header(path);
+  in.open(path);
+  if (!in) lmp->error->one(FLERR, "cannot open {} {}: {}", MATERIAL_FILE, file,
+                           utils::getsyserror());
+}
+
+void MaterialFile::check_header(const std::string &path)
+{
+  std::ifstream head(path);
+  std::string first;
+  std::getline(head, first);
+  if (head.bad())
+    lmp->error->one(FLERR, "{}: cannot read material file {}: {}", cmd, path, utils::getsyserror());
+  const std::string date = header_tag(first, "DATE:"), units = header_tag(first, "UNITS:");
+  const std::string style = lmp->update->unit_style;
+  if (!date.empty())
+    utils::logmesg(lmp, "Reading {} {} with DATE: {}\n", MATERIAL_FILE, file, date);
+  if (!units.empty() && units != style)
+    lmp->error->one(FLERR, "{} {} requires {} units but {} units are in use", MATERIAL_FILE, file,
+                    units, style);
+}
+
+// the next entry; false at the end of the file
+bool MaterialFile::next(FileEntry &entry)
+{
+  entry = FileEntry();
+  std::string text;
+  while (std::getline(in, text)) {
+    line++;
+    text.resize(std::min(text.size(), text.find('#')));
+    for (auto &w : Tokenizer(text).as_vector()) entry.words.push_back(w);
+    if (entry.words.empty()) continue;
+    if (entry.first == 0) entry.first = line;
+    entry.last = line;
+    if ((int) entry.words.size() >= MATERIAL_WORDS) return true;
+  }
+  if (in.bad())
+    lmp->error->one(FLERR, "{}: cannot read material file {} after line {}: {}", cmd, file, line,
+                    utils::getsyserror());
+  if (!entry.words.empty())
+    entry_error(entry, fmt::format("the file ends after {} of its {} words (name E nu density "
+                                   "G0)", entry.words.size(), MATERIAL_WORDS));
+  return false;
+}
+
+// E, nu, density, G0 of an entry; inf and nan pass (the caller names them)
+void MaterialFile::numbers(const FileEntry &entry, double *vals) const
+{
+  for (int k = 0; k < MATERIAL_WORDS - 1; k++) {
+    const std::string &w = entry.words[k + 1];
+    if (!parses_as_number(w.c_str()))
+      entry_error(entry, fmt::format("{} = '{}' is not a number", MATERIAL_FIELDS[k], w));
+    vals[k] = strtod(w.c_str(), nullptr);
+  }
+}
+
+void MaterialFile::entry_error(const FileEntry &entry, const std::string &what) const
+{
+  const std::string lines = entry.last > entry.first
+      ? fmt::format("lines {}-{}: an entry with fewer than {} words continues on the next line",
+                    entry.first, entry.last, MATERIAL_WORDS)
+      : fmt::format("line {}", entry.first);
+  lmp->error->one(FLERR, "{}: material file {}, entry '{}' ({}): {}", cmd, file, entry.words[0],
+                  lines, what);
+}
+
+}    // namespace
+
+/* ----------------------------------------------------------------------
+   the entry `name` of a material file, read on rank 0, on every rank
+------------------------------------------------------------------------- */
+
+PairPeriNospd::FileMaterial PairPeriNospd::read_material_file(const std::string &file,
+                                                              const std::string &name)
+{
+  const std::string cmd = std::string("pair_coeff (") + force->pair_style + ")";
+  double vals[4] = {0.0, 0.0, 0.0, 0.0};
+  int where[2] = {0, 0};    // found, line
   std::string rest;
   if (comm->me == 0) {
-    PotentialFileReader reader(lmp, file, "peri/nospd material");
-    char *line;
-    while ((line = reader.next_line(5))) {
-      try {
-        ValueTokenizer v(line);
-        if (v.next_string() != name) continue;
-        vals[0] = v.next_double();    // E
-        vals[1] = v.next_double();    // nu
-        v.next_double();              // density: set with the `set` command
-        vals[2] = v.next_double();    // G0
-        while (v.has_next()) rest += v.next_string() + " ";    // inelastic keywords
-        found = 1;
-        break;
-      } catch (TokenizerException &e) {
-        error->one(FLERR, "pair_coeff: bad line in material file {}: {}", file, e.what());
-      }
+    MaterialFile reader(lmp, file, cmd);
+    FileEntry e;
+    while (!where[0] && reader.next(e)) {
+      if (e.words[0] != name) continue;
+      reader.numbers(e, vals);
+      for (size_t k = MATERIAL_WORDS; k < e.words.size(); k++) rest += e.words[k] + " ";
+      where[0] = 1;
+      where[1] = e.first;
     }
   }
-  MPI_Bcast(&found, 1, MPI_INT, 0, world);
-  if (!found)
-    error->all(FLERR, "pair_coeff ({}): material '{}' not found in file {}", force->pair_style,
-               name, file);
-  MPI_Bcast(vals, 3, MPI_DOUBLE, 0, world);
+  MPI_Bcast(where, 2, MPI_INT, 0, world);
+  if (!where[0])
+    error->all(FLERR, "{}: material '{}' not found in file {}", cmd, name, file);
+  MPI_Bcast(vals, 4, MPI_DOUBLE, 0, world);
   int len = rest.size();
   MPI_Bcast(&len, 1, MPI_INT, 0, world);
   rest.resize(len);
   MPI_Bcast(&rest[0], len, MPI_CHAR, 0, world);
-  extra = split_quoted(rest);
-  E = vals[0];
-  nu = vals[1];
-  G0 = vals[2];
+  FileMaterial m;
+  m.E = vals[0];
+  m.nu = vals[1];
+  m.density = vals[2];
+  m.G0 = vals[3];
+  m.line = where[1];
+  m.extra = split_quoted(rest);    // the keywords, quotes joining words again
+  return m;
+}
+
+/* ----------------------------------------------------------------------
+   the numbers of a file entry other than nu (checked with the settings).
+   The density is not applied (set ... density), but a file entry with a
+   non-finite or non-positive one is broken.  G0 = 0 means no fracture
+   energy (fix nospd/damage ... g0 then needs its own).
+------------------------------------------------------------------------- */
+
+void PairPeriNospd::check_file_material(const std::string &where, const FileMaterial &m) const
+{
+  if (!(std::isfinite(m.density) && m.density > 0.0))
+    error->all(FLERR, "{}: density must be finite and > 0, got {}", where, m.density);
+  if (!(std::isfinite(m.G0) && m.G0 >= 0.0))
+    error->all(FLERR, "{}: fracture energy G0 must be finite and >= 0 (0: none), got {}", where,
+               m.G0);
+}
+
+/* ----------------------------------------------------------------------
+   Young's modulus, inline or from a file.  No solid is stiffer than about
+   1e12 Pa (1e13 in cgs, less in the other unit styles); a modulus past
+   E_MAX is a typo, and its products with the horizon's inverse powers
+   overflow a double into NaN forces at the first step.
+------------------------------------------------------------------------- */
+
+static constexpr double E_MAX = 1.0e100;
+
+void PairPeriNospd::check_modulus(const std::string &where, double E) const
+{
+  if (!std::isfinite(E))
+    error->all(FLERR, "{}: Young's modulus E must be finite, got {}", where, E);
+  if (!(E > 0.0)) error->all(FLERR, "{}: Young's modulus E must be > 0, got {}", where, E);
+  if (E > E_MAX)
+    error->all(FLERR, "{}: Young's modulus E = {} is beyond any material (at most {:g}): its "
+               "forces would overflow", where, E, E_MAX);
+}
+
+/* ----------------------------------------------------------------------
+   a number of the inline form: inf and nan are numbers (not a file name,
+   not LAMMPS's "expected floating point" about a valid-looking word)
+------------------------------------------------------------------------- */
+
+double PairPeriNospd::inline_number(const std::string &cmd, const char *what, const char *arg) const
+{
+  if (parses_as_number(arg) && !std::isfinite(strtod(arg, nullptr)))
+    error->all(FLERR, "{}: {} must be finite, got {}", cmd, what, arg);
+  return utils::numeric(FLERR, arg, false, lmp);
 }
 
 /* ---------------------------------------------------------------------- */
@@ -1101,7 +1299,7 @@ void PairPeriNospd::law_failure(int i, const Mat3 &F) const
     error->one(FLERR, "pair_style {}: the energy formula of type {} (W = '{}') gives a "
                "non-finite stress at atom {} on step {} (det F = {:.6g}){}", force->pair_style,
                atom->type[i], user_materials->spec(atom->type[i]).energy, atom->tag[i],
-               update->ntimestep, J, fix_bonds->unstable_cause());
+               update->ntimestep, J, fix_bonds->user_law_cause("formula"));
   error->one(FLERR, "pair_style {}: atom {} on step {} has det F = {:.6g}: the "
              "finite-strain law is undefined for an inverted or collapsed family{}",
              force->pair_style, atom->tag[i], update->ntimestep, J, fix_bonds->unstable_cause());
@@ -1150,7 +1348,7 @@ void PairPeriNospd::umat_failure(int i, NOSPD::UmatStatus st, const Mat3 &F) con
   if (st == NOSPD::UmatStatus::NONFINITE)
     error->one(FLERR, "pair_style {}: the UMAT of type {} ({}) returned a non-finite stress, "
                "energy or state variable at atom {} on step {}{}", force->pair_style, itype, lib,
-               atom->tag[i], update->ntimestep, fix_bonds->unstable_cause());
+               atom->tag[i], update->ntimestep, fix_bonds->user_law_cause("UMAT"));
   law_failure(i, F);
 }
 

@@ -200,8 +200,16 @@ class PairPeriNospd : public Pair {
     add_tally(t);
   }
   double stabilization_energy(int i) const;
-  void read_material_file(const std::string &file, const std::string &name, double &E,
-                          double &nu, double &G0, std::vector<std::string> &extra);
+  // one entry of a material file (name E nu density G0 [keywords])
+  struct FileMaterial {
+    double E = 0.0, nu = 0.0, density = 0.0, G0 = 0.0;
+    int line = 0;                      // where the entry starts in the file
+    std::vector<std::string> extra;    // the inelastic keywords after the numbers
+  };
+  FileMaterial read_material_file(const std::string &file, const std::string &name);
+  void check_file_material(const std::string &where, const FileMaterial &m) const;
+  void check_modulus(const std::string &where, double E) const;
+  double inline_number(const std::string &cmd, const char *what, const char *arg) const;
   void check_poisson(const std::string &where, double nu) const;
   void parse_inelastic(const std::vector<std::string> &words, NOSPD::FlowLaw &fl,
                        NOSPD::ThermalLaw &th, NospdUserMaterials::Spec &us,

@@ -470,14 +470,8 @@ void PairPeriNospdHS::force_range(const int *order, int from, int to, int tid, i
         : evaluate<DIM, 1>(p, hs_form, strain_law, plane_mode, in, eflag != 0, w.scratch, out);
     for (int l = 0; l < lanes; l++) {
       if (!ok && laws[l].active) family_failure(atoms[l], laws[l], out[l].F);
-      if (!ok && out[l].bad != -2) {
-        const tagint partner = out[l].bad >= 0 ? atom->tag[w.jbuf[l][out[l].bad]] : 0;
-        error->one(FLERR, "pair_style {}: atom {} on step {}: the finite-strain law is "
-                   "undefined (det F <= 0) for the {} of its bond to atom {}{}",
-                   force->pair_style, atom->tag[atoms[l]], update->ntimestep,
-                   out[l].bad >= 0 ? "bond-associated family" : "whole family", partner,
-                   fix_bonds->unstable_cause());
-      }
+      if (!ok && out[l].bad != -2)
+        bond_failure(atoms[l], out[l], out[l].bad >= 0 ? atom->tag[w.jbuf[l][out[l].bad]] : 0);
       apply_family<VIRIAL, MASKED>(atoms[l], p, w, l, fg, vg, out[l], eflag, t);
       if (laws[l].active && !p.atom_singular) finish_history(atoms[l], laws[l], eflag, minimizing, t);
     }
@@ -547,6 +541,25 @@ void PairPeriNospdHS::finish_history(int i, LaneLaws &laws, int eflag, bool mini
   if (eflag && minimizing)
     tally_energy(i, fix_bonds->history_trial[i][NOSPD::Hist::WORK] -
                  fix_bonds->history[i][NOSPD::Hist::WORK], t);
+}
+
+/* ----------------------------------------------------------------------
+   a bond's law (not a bond history law) undefined at owned atom i: a
+   formula non-finite at a det F > 0 is the formula's doing
+------------------------------------------------------------------------- */
+
+void PairPeriNospdHS::bond_failure(int i, const NOSPD::StateOutput &out, tagint partner) const
+{
+  const std::string family = out.bad >= 0 ? "bond-associated family" : "whole family";
+  if (strain_law == NOSPD::Law::USER && out.bad_J > 0.0)
+    error->one(FLERR, "pair_style {}: the energy formula of type {} (W = '{}') gives a "
+               "non-finite stress at atom {} on step {} for the {} of its bond to atom {} "
+               "(det F = {:.6g}){}", force->pair_style, atom->type[i],
+               user_materials->spec(atom->type[i]).energy, atom->tag[i], update->ntimestep,
+               family, partner, out.bad_J, fix_bonds->user_law_cause("formula"));
+  error->one(FLERR, "pair_style {}: atom {} on step {}: the finite-strain law is undefined "
+             "(det F <= 0) for the {} of its bond to atom {}{}", force->pair_style, atom->tag[i],
+             update->ntimestep, family, partner, fix_bonds->unstable_cause());
 }
 
 /* ---------------------------------------------------------------------- */

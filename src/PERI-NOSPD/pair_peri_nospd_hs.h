@@ -133,6 +133,7 @@ class PairPeriNospdHS : public PairPeriNospd {
                      LaneLaws &laws);
   void finish_history(int i, LaneLaws &laws, int eflag, bool minimizing, Tally &t);
   void family_failure(int i, const LaneLaws &laws, const NOSPD::Mat3 &F) const;
+  void bond_failure(int i, const NOSPD::StateOutput &out, tagint partner) const;
 
   // The linear law's stencil (nospd_stencil.h): points whose whole
   // horizon is one grid pattern take their force from it on steps that

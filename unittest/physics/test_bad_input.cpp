@@ -6,6 +6,9 @@
 #include "comm.h"
 #include "gmock/gmock.h"
 #include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
 #include <utility>
 #include <vector>
 
@@ -46,6 +49,20 @@ class BadInput : public ::testing::Test {
     deck();
     cmd(lmp, "pair_style peri/nospd");
     return error_of(lmp, "pair_coeff " + args);
+  }
+
+  // the error of `pair_coeff * * FILE name 0.003` for a material file of
+  // `body` below a header line, written in the build folder (removed after)
+  std::string file_material_error(const std::string &body, const std::string &name = "foo")
+  {
+    const std::string file = "nospd_bad_input_test.nospd";
+    {
+      std::ofstream out(file);
+      out << "# DATE: 2026-11-27 UNITS: si CONTRIBUTOR: test\n" << body;
+    }
+    const std::string msg = pair_coeff_error("* * " + file + " " + name + " 0.003");
+    std::remove(file.c_str());
+    return msg;
   }
 
   // the error of a command given after a complete steel deck
@@ -297,6 +314,81 @@ TEST_F(BadInput, MaterialFileMissing)
               HasSubstr("cannot open peri/nospd material potential file no_such_file.nospd"));
 }
 
+/* Lines of any length: LAMMPS's potential-file reader (1024-byte lines)
+   hung on a longer comment, joined the rest of a 1030-byte one to the next
+   entry, and cut a long entry (its last keywords lost without a word). */
+TEST_F(BadInput, MaterialFileLongLines)
+{
+  const std::string entry = "foo 210e9 0.3 7850 100\n";
+  for (size_t n : {1030, 5000}) {
+    EXPECT_EQ(file_material_error("# " + std::string(n, 'x') + "\n" + entry), "") << n;
+    delete lmp;
+    lmp = open_lammps();
+  }
+  const std::string spaces(1200, ' ');
+  EXPECT_THAT(file_material_error("foo 210e9 0.3 7850 100 yield 250e6" + spaces +
+                                  "hardening linear -2e9\n"),
+              HasSubstr("hardening linear H = -2000000000 would make the flow stress fall"));
+}
+
+/* a file entry's bad number names the file, the entry and its line, the
+   field and the value; G0 = 0 (no fracture energy) is valid */
+TEST_F(BadInput, MaterialFileBadValues)
+{
+  const std::string entry = "material 'foo' of file nospd_bad_input_test.nospd (line 2): ";
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"foo inf 0.3 7850 100", entry + "Young's modulus E must be finite, got inf"},
+      {"foo 1e308 0.3 7850 100", entry + "Young's modulus E = 1e+308 is beyond any material"},
+      {"foo -2e9 0.3 7850 100", entry + "Young's modulus E must be > 0, got -2000000000"},
+      {"foo 210e9 0.5 7850 100", entry + "Poisson ratio nu must be in (-1, 0.5), got 0.5"},
+      {"foo 210e9 0.3 -7850 100", entry + "density must be finite and > 0, got -7850"},
+      {"foo 210e9 0.3 7850 inf", entry + "fracture energy G0 must be finite and >= 0 (0: none), "
+                                         "got inf"},
+      {"foo 210e9 0.3 7850 -100", entry + "fracture energy G0 must be finite and >= 0 (0: none), "
+                                          "got -100"},
+      {"foo 210e9 0.3 7850 nan", "G0 must be finite and >= 0 (0: none), got nan"},
+      {"foo 210e9 0.3 7850 0", ""},
+      {"foo 210e9 0.3 7850", "material file nospd_bad_input_test.nospd, entry 'foo' (line 2): "
+                             "the file ends after 4 of its 5 words (name E nu density G0)"},
+      {"foo 210e9 0.3 7850\nbar 1e9 0.2 1000 1",
+       "material file nospd_bad_input_test.nospd, entry 'foo' (lines 2-3: an entry with fewer "
+       "than 5 words continues on the next line): G0 = 'bar' is not a number"},
+  };
+  for (const auto &c : cases) {
+    delete lmp;
+    lmp = open_lammps();
+    const auto msg = file_material_error(c.first + "\n");
+    if (c.second.empty()) EXPECT_EQ(msg, "") << c.first;
+    else EXPECT_THAT(msg, HasSubstr(c.second)) << c.first;
+  }
+}
+
+// inf and nan inline are numbers, not a file name
+TEST_F(BadInput, InlineNonFiniteMaterial)
+{
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"* * inf 0.3 0.003", "Young's modulus E must be finite, got inf"},
+      {"* * nan 0.3 0.003", "Young's modulus E must be finite, got nan"},
+      {"* * 200e9 nan 0.003", "Poisson ratio nu must be finite, got nan"},
+      {"* * 1e200 0.3 0.003", "Young's modulus E = 1e+200 is beyond any material"},
+  };
+  for (const auto &c : cases) {
+    delete lmp;
+    lmp = open_lammps();
+    EXPECT_THAT(pair_coeff_error(c.first), HasSubstr("pair_coeff (peri/nospd): " + c.second))
+        << c.first;
+  }
+}
+
+TEST_F(BadInput, MaterialFileIsDirectory)
+{
+  const std::string dir = "nospd_bad_input_dir.nospd";    // in the build folder
+  std::filesystem::create_directory(dir);
+  const auto msg = pair_coeff_error("* * " + dir + " foo 0.003");
+  std::filesystem::remove(dir);
+  EXPECT_THAT(msg, HasSubstr("material file nospd_bad_input_dir.nospd is a directory, not a file"));
+}
+
 TEST_F(BadInput, KeywordWithoutValue)
 {
   deck();
@@ -421,6 +513,16 @@ TEST_F(BadInput, NegativeThickness)
 {
   deck();
   EXPECT_THAT(error_of(lmp, "pair_style peri/nospd thickness -0.01"), HasSubstr("thickness must be > 0, got -0.01"));
+}
+
+// a 3D point volume is a volume: a thickness would be ignored without a word
+TEST_F(BadInput, ThicknessIn3D)
+{
+  deck();
+  for (const char *style : {"peri/nospd", "peri/nospd/hs"})
+    EXPECT_THAT(error_of(lmp, std::string("pair_style ") + style + " thickness 0.002"),
+                HasSubstr("keyword thickness applies to 2D only (dimension 2)"))
+        << style;
 }
 
 // form and ratio belong to the horizon-stabilized style
