@@ -2,14 +2,12 @@
 # The 42CrMo4 Taylor bar (examples/taylor_bar/in.taylor_bar_42crmo4) at 10
 # points across, to 80 us, against the finite-element result for the same
 # scene and constants (Abaqus/Explicit, as listed by DynELA's
-# documentation: final length 26.55-26.56 mm): the length within 1 %, which
-# the flow stress sets (10, 15, 20 across: 0.1, 0.8, 0.3 % short; without
-# the rate term 1.9 % short, so a wrong rate term fails here).  The
-# footprint is held only to its own value as a regression guard (8.95 mm
-# at 10 across, 20 % short of the finite elements': the elastic
-# stabilization, and the horizon, hold the flare back; see the example's
-# README).  ke + pe + plastic work constant
-# to 1e-4.
+# documentation: final length 26.55-26.56 mm, impact face 11.16 mm): the
+# length within 1 %, which the flow stress sets (0.8 % long at 10 across;
+# without the rate term 1.9 % short, so a wrong rate term fails here), and
+# the face within 10 % (6.5 % narrow; Silling's springs on the linear fit,
+# which store the bulge's curvature, leave it 20 % narrow and fail: see the
+# example's README).  ke + pe + plastic work constant to 1e-4.
 # usage: run_taylor_42crmo4.sh LMP WORKDIR
 set -euo pipefail
 LMP=$1; WORK=$2
@@ -23,4 +21,4 @@ rm -f steel.*.dump
 /usr/bin/python3 "$HERE/check_taylor_energy.py" steel.log --tol 1e-4 --l0 32.4e-3 --band 0.75,0.85
 last=$(ls steel.*.dump | sort -t. -k2 -n | tail -n 1)
 /usr/bin/python3 "$ROOT/tools/taylor_bar.py" "$last" --spacing 0.64e-3 \
-  --l0 32.4e-3 --d0 6.4e-3 --check 26.55e-3,8.95e-3,0.01,0.05
+  --l0 32.4e-3 --d0 6.4e-3 --check 26.55e-3,11.16e-3,0.01,0.10
