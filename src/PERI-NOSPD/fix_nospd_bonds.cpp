@@ -1416,9 +1416,17 @@ void FixNospdBonds::set_model(const NospdBondModel &m)
   maxexchange = maxpartner + 22 + quadratic_record() + nhistory;
 }
 
-/* the quadratic fit operator of owned atom i's family (bond arrays current) */
+/* the quadratic fit operator of owned atom i's family (bond arrays current).
+   A family that has lost bonds keeps the linear fit: around a crack the
+   partners left fit a quadratic poorly (a one-sided, ragged family), its
+   coefficients grow large, and the springs then stiffen instead of
+   stabilize (the projectile scene ran away with them). */
 void FixNospdBonds::quadratic_fit_of(int i)
 {
+  if (bond_first[i + 1] - bond_first[i] < family_size[i]) {
+    for (int k = 0; k < NOSPD::QuadraticFit::RECORD; k++) kinv2[i][k] = 0.0;
+    return;
+  }
   Eigen::Matrix<double, 9, 9> K2 = Eigen::Matrix<double, 9, 9>::Zero();
   double phi[9];
   for (int b = bond_first[i]; b < bond_first[i + 1]; b++) {

@@ -554,6 +554,38 @@ TEST(QuadraticFit, StepWithoutVirialMatchesStepWithIt)
   }
 }
 
+/* A family that has lost bonds keeps the linear fit (its ragged partners
+   fit a quadratic poorly: the projectile scene ran away with them), an
+   intact one keeps its quadratic fit. */
+TEST(QuadraticFit, FamiliesThatLostBondsKeepTheLinearFit)
+{
+  LAMMPS *lmp = open_lammps();
+  Block blk;
+  blk.n = 9;
+  blk.settings = "strain small stabilization silling 0.5 stabilization/fit quadratic";
+  make_block(lmp, blk);
+  cmd(lmp, "run 0");
+  auto *fb = static_cast<FixNospdBonds *>(lmp->modify->get_fix_by_id("NOSPD_BONDS"));
+  const int nlocal = lmp->atom->nlocal;
+  const int flag = NOSPD::QuadraticFit::PACKED;
+  int fitted = 0;
+  for (int i = 0; i < nlocal; i++) fitted += fb->kinv2[i][flag] == 1.0;
+  EXPECT_EQ(fitted, nlocal);    // every family of the block, corners included
+  ASSERT_GT(break_random_bonds(lmp, 0.02, 3), 0);
+  cmd(lmp, "run 0");
+  int lost = 0, intact_fitted = 0;
+  for (int i = 0; i < nlocal; i++) {
+    if (fb->bond_first[i + 1] - fb->bond_first[i] < fb->family_size[i]) {
+      lost++;
+      EXPECT_EQ(fb->kinv2[i][flag], 0.0) << "atom " << lmp->atom->tag[i];
+    } else
+      intact_fitted += fb->kinv2[i][flag] == 1.0;
+  }
+  EXPECT_GT(lost, 0);
+  EXPECT_EQ(intact_fitted, nlocal - lost);
+  delete lmp;
+}
+
 std::vector<Variant> all_variants()
 {
   std::vector<Variant> v;
