@@ -70,7 +70,9 @@ static int made_by_pair_or_error(LAMMPS *lmp, int narg, char **arg)
 
 FixNospdBonds::FixNospdBonds(LAMMPS *lmp, int narg, char **arg) :
     FixPeriNeigh(lmp, made_by_pair_or_error(lmp, narg, arg), arg), nbond_atoms(0), bond_version(0), bond_first(nullptr), bond_j(nullptr),
-    bond_slot(nullptr), bond_w(nullptr), bond_pair(nullptr), bond_ghost(nullptr), x0s(nullptr), kinv(nullptr), kinv2(nullptr), xi_moment(nullptr), u_moment(nullptr), family_size(nullptr), singular(nullptr),
+    bond_slot(nullptr), bond_w(nullptr), bond_pair(nullptr), bond_ghost(nullptr), x0s(nullptr),
+    kinv(nullptr), kinv2(nullptr), xi_moment(nullptr), u_moment(nullptr), family_size(nullptr),
+    singular(nullptr),
     defgrad(nullptr), pk1(nullptr), energy_density(nullptr), nsingular(0), nbonds_total(0),
     nbonds_broken(0), nbonds_vanished(0), nmax_bonds(0), nmax_first(0), nmax_x0s(0), stale(nullptr),
     all_stale(true), trial_ready(0), x0s_store(nullptr), ref_box_set(0), own_tag(nullptr), family_type(nullptr)

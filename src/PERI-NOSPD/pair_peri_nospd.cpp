@@ -75,10 +75,11 @@ static const char *law_keyword(Law law)
 
 PairPeriNospd::PairPeriNospd(LAMMPS *lmp) :
     Pair(lmp), fix_bonds(nullptr), strain_law(Law::SMALL), plane_mode(Plane::NONE),
-    stab(Stab::SILLING), stab_param(0.5), fit_quadratic(false), influence(NospdBondModel::CONSTANT), thickness(1.0),
-    singular_tol(1.0e-4), damaged_tol(0.1), youngs(nullptr), poisson(nullptr), g0(nullptr),
-    stab_scalar(nullptr), cut(nullptr), nmax_work(0), bmat(nullptr), tmat(nullptr), qmat(nullptr), qsums(nullptr),
-    moments(nullptr), comm_tensors(1)
+    stab(Stab::SILLING), stab_param(0.5), fit_quadratic(false),
+    influence(NospdBondModel::CONSTANT), thickness(1.0), singular_tol(1.0e-4), damaged_tol(0.1),
+    youngs(nullptr), poisson(nullptr), g0(nullptr), stab_scalar(nullptr), cut(nullptr),
+    nmax_work(0), bmat(nullptr), tmat(nullptr), moments(nullptr), qmat(nullptr), qsums(nullptr),
+    comm_tensors(1)
 {
   user_materials = std::make_unique<NospdUserMaterials>(lmp);
   temperature_kind = TEMP_NONE;
