@@ -462,6 +462,9 @@ void FixNospdBonds::report_families()
 
 void FixNospdBonds::post_neighbor()
 {
+  // a fix may delete atoms and create others within one step of a run (fix
+  // evaporate and fix deposit id max), the new ones taking freed IDs
+  follow_renumbered_tags();
   update_x0s();
   build_bond_arrays();
   update_shape_tensors();
@@ -1290,10 +1293,17 @@ void FixNospdBonds::follow_renumbered_tags()
     if (renumbered)
       error->warning(FLERR, "Fix {}: atom IDs were renumbered since the bond families were "
                      "built (delete_atoms compress yes): the families follow the new IDs", style);
-    if (all)
-      error->warning(FLERR, "Fix {}: {} bonds broken: their partner atoms no longer exist "
-                     "(delete_atoms, or atoms lost under thermo_modify lost ignore)", style, all);
   }
+  if (all) warn_vanished(all);
+}
+
+void FixNospdBonds::warn_vanished(bigint nbroken)
+{
+  count_bonds_pending = true;
+  if (comm->me == 0)
+    error->warning(FLERR, "Fix {}: {} bonds broken: their partner atoms no longer exist "
+                   "(delete_atoms, fix evaporate, or atoms lost under thermo_modify lost "
+                   "ignore)", style, nbroken);
 }
 
 /* ----------------------------------------------------------------------
@@ -1387,10 +1397,7 @@ void FixNospdBonds::resolve_missing(const std::vector<MissingPartner> &missing)
   bigint one = nvanished, all = 0;
   MPI_Allreduce(&one, &all, 1, MPI_LMP_BIGINT, MPI_SUM, world);
   nbonds_vanished += all;
-  if (comm->me == 0)
-    error->warning(FLERR, "Fix {}: {} bonds broken: their partner atoms no longer exist "
-                   "(delete_atoms, or atoms lost under thermo_modify lost ignore)", style, all);
-  count_bonds_pending = true;
+  warn_vanished(all);
 }
 
 /* ----------------------------------------------------------------------

@@ -253,6 +253,7 @@ class FixNospdBonds : public FixPeriNeigh {
   void resolve_missing(const std::vector<MissingPartner> &missing);
   int partner_index(tagint t) const;
   void follow_renumbered_tags();
+  void warn_vanished(bigint nbroken);
   std::vector<double> family_horizon;    // [(ntypes+1)^2] horizons the families were built with
   void check_horizons();
   void report_stable_timestep();

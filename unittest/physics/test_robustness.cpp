@@ -387,7 +387,24 @@ struct Refilled {
   std::map<tagint, std::array<double, 3>> force;
 };
 
-Refilled refill(const std::string &compress, bool run_between)
+// a's largest force component, and the largest difference of b's forces
+// from a's over a's atoms
+std::pair<double, double> force_difference(const Refilled &a, const Refilled &b)
+{
+  double fmax = 0.0, diff = 0.0;
+  for (const auto &[t, f] : a.force) {
+    const auto &g = b.force.at(t);
+    for (int k = 0; k < 3; k++) {
+      fmax = std::max(fmax, std::abs(f[k]));
+      diff = std::max(diff, std::abs(f[k] - g[k]));
+    }
+  }
+  return {fmax, diff};
+}
+
+// a 6^3 cube (IDs 1..216) stretched by a ramp, families built; room above
+// it for new atoms, and a second type for them
+LAMMPS *ramped_cube()
 {
   LAMMPS *lmp = open_lammps();
   cmd(lmp, "units si");
@@ -395,8 +412,8 @@ Refilled refill(const std::string &compress, bool run_between)
   cmd(lmp, "atom_modify map array");
   cmd(lmp, "boundary s s f");
   cmd(lmp, "lattice sc 0.0005");
-  cmd(lmp, "region box block -0.25 5.75 -0.25 5.75 -0.25 7.75");
-  cmd(lmp, "create_box 1 box");
+  cmd(lmp, "region box block -0.25 5.75 -0.25 5.75 -0.25 9.75");
+  cmd(lmp, "create_box 2 box");
   cmd(lmp, "region body block -0.25 5.75 -0.25 5.75 -0.25 5.75");
   cmd(lmp, "create_atoms 1 region body");
   cmd(lmp, "set group all density 2200");
@@ -405,6 +422,12 @@ Refilled refill(const std::string &compress, bool run_between)
   cmd(lmp, "pair_coeff * * 40e9 0.3 0.0015001");
   cmd(lmp, "displace_atoms all ramp z 0.0 1e-6 z 0.0 0.003 units box");
   cmd(lmp, "run 0");
+  return lmp;
+}
+
+Refilled refill(const std::string &compress, bool run_between)
+{
+  LAMMPS *lmp = ramped_cube();
   // the atom of the largest ID (216, a corner) and, with compress yes, a
   // second one (7) so that IDs are renumbered as well
   cmd(lmp, compress == "yes" ? "group gone id 7 216" : "group gone id 216");
@@ -438,17 +461,54 @@ TEST(RobustnessCreate, NewAtomWithADeletedAtomsIdGetsNoBonds)
     EXPECT_EQ(together.vanished, apart.vanished);
     EXPECT_GT(together.vanished, 0);
     ASSERT_EQ(together.force.size(), apart.force.size());
-    double fmax = 0.0, diff = 0.0;
-    for (const auto &[t, f] : apart.force) {
-      const auto &g = together.force.at(t);
-      for (int k = 0; k < 3; k++) {
-        fmax = std::max(fmax, std::abs(f[k]));
-        diff = std::max(diff, std::abs(f[k] - g[k]));
-      }
-    }
+    const auto [fmax, diff] = force_difference(apart, together);
     EXPECT_GT(fmax, 0.0);
     EXPECT_LT(diff, 1e-12 * fmax);
   }
+}
+
+// The same within one step of a run: fix evaporate deletes the atom of the
+// largest ID and fix deposit, with `id max`, gives that ID to the atom it
+// inserts far above the body.  The deleted atom's bonds must break exactly
+// as when the new atom gets a fresh ID (`id next`), not pass to the newcomer.
+namespace {
+Refilled evaporate_and_deposit(const std::string &idrule)
+{
+  LAMMPS *lmp = ramped_cube();
+  cmd(lmp, "region corner sphere 0.0025 0.0025 0.0025 0.0001 units box");    // atom 216
+  cmd(lmp, "region above block 1 4 1 4 8 9");
+  cmd(lmp, "timestep 1e-9");
+  cmd(lmp, "fix gone all evaporate 1 1 corner 4321");
+  cmd(lmp, "fix add all deposit 1 2 10 987 region above id " + idrule);
+  cmd(lmp, "run 1 post no");
+  auto *fb = bonds(lmp);
+  Refilled r{fb->nbonds_total, (bigint) fb->compute_vector(4), -1, {}};
+  for (int i = 0; i < lmp->atom->nlocal; i++) {
+    const tagint t = lmp->atom->tag[i];
+    if (lmp->atom->type[i] == 2)
+      r.new_atom_bonds = fb->bond_first[i + 1] - fb->bond_first[i];
+    else
+      r.force[t] = {lmp->atom->f[i][0], lmp->atom->f[i][1], lmp->atom->f[i][2]};
+  }
+  EXPECT_EQ(lmp->atom->natoms, 216);    // one gone, one come
+  delete lmp;
+  return r;
+}
+}    // namespace
+
+TEST(RobustnessCreate, AtomDeletedAndCreatedInOneStepOfARunBreaksTheBonds)
+{
+  const auto fresh = evaporate_and_deposit("next");
+  const auto reused = evaporate_and_deposit("max");
+  EXPECT_EQ(fresh.new_atom_bonds, 0);
+  EXPECT_EQ(reused.new_atom_bonds, 0);
+  EXPECT_GT(fresh.vanished, 0);
+  EXPECT_EQ(reused.vanished, fresh.vanished);
+  EXPECT_EQ(reused.bonds, fresh.bonds);
+  ASSERT_EQ(reused.force.size(), fresh.force.size());
+  const auto [fmax, diff] = force_difference(fresh, reused);
+  EXPECT_GT(fmax, 0.0);
+  EXPECT_LT(diff, 1e-12 * fmax);
 }
 
 /* ----------------------------------------------------------------------
