@@ -172,7 +172,7 @@ int ComputeNospdAtom::history_columns(int i, int q, double *row, int c) const
     for (int k = 0; k < n; k++) row[c + k] = 0.0;
     return c + n;
   }
-  const double *h = has ? bonds->history[i] : nullptr;
+  const double *h = has ? bonds->current_history()[i] : nullptr;
   switch (q) {
     case EQPS: row[c] = h[H::EQPS]; break;
     case YIELDING: row[c] = h[H::YIELDING]; break;

@@ -164,7 +164,8 @@ void ComputeNospdBondLocal::compute_local()
           case EQPS: {
             const double *bs = bond_state(i, b, own);
             if (bs) r[c++] = bs[NOSPD::BondHist::EQPS];
-            else if (pair->has_history(type[i])) r[c++] = bonds->history[i][NOSPD::Hist::EQPS];
+            else if (pair->has_history(type[i]))
+              r[c++] = bonds->current_history()[i][NOSPD::Hist::EQPS];
             else r[c++] = 0.0;
             break;
           }
@@ -180,13 +181,15 @@ const double *ComputeNospdBondLocal::bond_state(int i, int b, int own) const
 {
   FixNospdBonds *bonds = pair->bonds();
   if (!pair_hs || !bonds->nhist_bond || !pair->has_history(atom->type[i])) return nullptr;
-  if (!own) return bonds->history[i] + NOSPD::FamilyHist::FALLBACK;
-  return bonds->bond_history(bonds->history[i], bonds->bond_slot[b]);
+  double *row = bonds->current_history()[i];
+  if (!own) return row + NOSPD::FamilyHist::FALLBACK;
+  return bonds->bond_history(row, bonds->bond_slot[b]);
 }
 
 /* ----------------------------------------------------------------------
    Cauchy stress of bond b of atom i at its F: the law's, or for an
-   inelastic type that of its accepted state (the bond's own under
+   inelastic type that of its state (FixNospdBonds::current_history: the
+   accepted one, or a minimization's latest; the bond's own under
    peri/nospd/hs, else atom i's stress)
 ------------------------------------------------------------------------- */
 

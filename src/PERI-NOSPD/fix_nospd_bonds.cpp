@@ -11,6 +11,7 @@
 #include "error.h"
 #include "math_const.h"
 #include "memory.h"
+#include "min.h"
 #include "neigh_list.h"
 #include "neighbor.h"
 #include "output.h"
@@ -229,7 +230,84 @@ void FixNospdBonds::setup_post_neighbor()
   update_shape_tensors();
   count_bonds();
   if (built_now) report_families();
+  check_plane_volumes();
   if (update->whichflag == 1) report_stable_timestep();
+  if (update->whichflag == 2) check_min_dmax();
+}
+
+/* ----------------------------------------------------------------------
+   In 2D the volumes are area x thickness t, and the micromodulus behind
+   the stabilization, the stable time step estimate and the critical bond
+   energy from G0 assume that a family's volume is that of its horizon's
+   disk, pi delta^2 t.  Volumes of area x t without the thickness keyword
+   (t = 1), or of area alone with it, break that by a factor 1/t or t,
+   silently.  The fullest family (an interior point) holds its disk's
+   volume to within the quadrature of the disk by the points, a factor
+   below 2 for any horizon past the spacing on a square or hexagonal grid
+   and for irregular points with their own volumes; a body's edges and
+   damage only empty families.  So the fullest family is held to within a
+   factor 5 of its disk; one warning.
+------------------------------------------------------------------------- */
+
+void FixNospdBonds::check_plane_volumes()
+{
+  if (model.dim != 2 || plane_volumes_warned) return;
+  const int *type = atom->type;
+  const double *vfrac = atom->vfrac;
+  double fullest = 0.0, all = 0.0;
+  for (int i = 0; i < atom->nlocal; i++) {
+    const int it = type[i];
+    if (model.active && !model.active[it]) continue;
+    double v = vfrac[i];
+    for (int b = bond_first[i]; b < bond_first[i + 1]; b++) v += vfrac[bond_j[b]];
+    const double delta = model.horizon[it][it];
+    fullest = std::max(fullest, v / (MathConst::MY_PI * delta * delta * model.thickness));
+  }
+  MPI_Allreduce(&fullest, &all, 1, MPI_DOUBLE, MPI_MAX, world);
+  if (all == 0.0 || (all > 0.2 && all < 5.0)) return;
+  plane_volumes_warned = true;
+  if (comm->me == 0)
+    error->warning(FLERR, "Fix {}: in 2D a point's volume (vfrac) is its area times the "
+                   "thickness, here {:.6g}{}, but the fullest family holds {:.3g} times the "
+                   "volume pi delta^2 t of its horizon's disk: the volumes imply a thickness "
+                   "of about {:.3g}.  The stabilization, the stable time step estimate and G0 "
+                   "assume the two agree: set the volumes to area x thickness, or give the "
+                   "thickness with pair_style keyword thickness", style, model.thickness,
+                   model.thickness == 1.0 ? " (the default: no thickness keyword)" : "", all,
+                   all * model.thickness);
+}
+
+/* ----------------------------------------------------------------------
+   A line search's first trial moves the atom with the largest force by
+   min_modify dmax (0.1 distance units by default: 10 cm in si units).
+   Moves beyond a fraction of the horizon invert families and carry
+   atoms beyond the ghost cutoff or out of the box, which LAMMPS reports
+   as lost atoms without a cause: warn at the setup of the minimization.
+------------------------------------------------------------------------- */
+
+namespace {
+// Min keeps dmax protected and offers no accessor: a pointer to the member
+// formed in a class derived from Min reads it without touching LAMMPS
+struct MinDmax : LAMMPS_NS::Min {
+  static double of(const LAMMPS_NS::Min *m) { return m->*(&MinDmax::dmax); }
+};
+}    // namespace
+
+void FixNospdBonds::check_min_dmax()
+{
+  if (!update->minimize || !model.horizon) return;
+  const double dmax = MinDmax::of(update->minimize);
+  double delta = 0.0;    // the smallest horizon
+  for (int i = 1; i <= atom->ntypes; i++)
+    if ((!model.active || model.active[i]) && (delta == 0.0 || model.horizon[i][i] < delta))
+      delta = model.horizon[i][i];
+  if (!(delta > 0.0) || !(dmax > 0.1 * delta) || dmax == dmax_warned) return;
+  dmax_warned = dmax;
+  if (comm->me == 0)
+    error->warning(FLERR, "Fix {}: min_modify dmax {:.6g} exceeds a tenth of the horizon "
+                   "{:.6g}: a line search's trial move of that size inverts families and may "
+                   "lose atoms; set min_modify dmax to a fraction of the point spacing, e.g. "
+                   "min_modify dmax {:.2g}", style, dmax, delta, 0.003 * delta);
 }
 
 /* ----------------------------------------------------------------------
@@ -1808,6 +1886,13 @@ void FixNospdBonds::commit_history()
 
 /* ---------------------------------------------------------------------- */
 
+double **FixNospdBonds::current_history() const
+{
+  return (update->whichflag == 2 && trial_ready) ? history_trial : history;
+}
+
+/* ---------------------------------------------------------------------- */
+
 double FixNospdBonds::history_sum(int k)
 {
   double sum = 0.0, all = 0.0;
@@ -1816,7 +1901,8 @@ double FixNospdBonds::history_sum(int k)
     // summed like pe and ke under PERI's conventions (rmass is the density,
     // the pair energy the sum of energy densities), so that
     // ke + pe + this is the conserved total
-    for (int i = 0; i < nlocal; i++) sum += history[i][k];
+    double **h = current_history();
+    for (int i = 0; i < nlocal; i++) sum += h[i][k];
   }
   MPI_Allreduce(&sum, &all, 1, MPI_DOUBLE, MPI_SUM, world);
   return all;

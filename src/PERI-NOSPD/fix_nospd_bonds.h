@@ -154,7 +154,11 @@ class FixNospdBonds : public FixPeriNeigh {
   int nhist_bond;            // and per partner slot
   double **history;          // [nmax][nhistory], accepted
   double **history_trial;    // [nmax][nhistory], latest force evaluation
-  double history_sum(int k); // sum over atoms of history[k] (global)
+  double history_sum(int k); // sum over atoms of current_history()[k] (global)
+  // the rows to report (computes, sums): the accepted ones, except during
+  // a minimization, which accepts its trial rows only at its end (post_run)
+  // while its output shows the state of its latest force evaluation
+  double **current_history() const;
   // per type, the law whose state the history holds (the pair style's
   // code; empty after a restart)
   std::vector<int> history_law;
@@ -257,6 +261,10 @@ class FixNospdBonds : public FixPeriNeigh {
   std::vector<double> family_horizon;    // [(ntypes+1)^2] horizons the families were built with
   void check_horizons();
   void report_stable_timestep();
+  void check_plane_volumes();
+  bool plane_volumes_warned = false;
+  void check_min_dmax();
+  double dmax_warned = -1.0;          // the min_modify dmax last warned about
   std::vector<double> dt_reported;    // per type, the estimate last logged
   double dt_checked = -1.0;           // the time step last checked against it
   tagint *own_tag;    // the atom's ID when its partners' IDs were last written

@@ -12,7 +12,9 @@
      I1b, I2b   isochoric invariants J^-2/3 I1, J^-4/3 I2
      l1, l2, l3 principal stretches (W must be symmetric in them)
    and named constants: "expr; name=value; ..." in the Lepton manner, or
-   given separately (params), which are appended the same way.
+   given separately (params), which replace the formula's definition of
+   their name or are appended the same way.  A constant defined twice or
+   named like a variable is an error.
 
    P from the invariants (closed form):
      dI1/dF = 2F,  dI2/dF = 2(I1 F - F C),  dJ/dF = J F^-T,
@@ -60,12 +62,7 @@ class FormulaLaw : public PointLaw {
              const std::vector<std::pair<std::string, double>> &params = {}) :
       text(expression)
   {
-    std::string full = expression;
-    char buf[64];
-    for (const auto &p : params) {
-      std::snprintf(buf, sizeof(buf), "%.17g", p.second);
-      full += "; " + p.first + "=" + buf;
-    }
+    const std::string full = with_constants(expression, params);
     Lepton::ParsedExpression parsed;
     try {
       parsed = Lepton::Parser::parse(full).optimize();
@@ -102,6 +99,10 @@ class FormulaLaw : public PointLaw {
   }
   FormulaLaw(const FormulaLaw &) = delete;
   FormulaLaw &operator=(const FormulaLaw &) = delete;
+
+  // the names W's variables take, which no constant may take
+  static bool is_variable(const std::string &n) { return lookup(n) >= 0; }
+  static std::string variable_list() { return "I1 I2 J I1b I2b l1 l2 l3"; }
 
   const std::string &expression() const { return text; }
   bool uses(Var v) const { return used[v]; }
@@ -171,6 +172,60 @@ class FormulaLaw : public PointLaw {
     for (int v = 0; v < NVAR; v++)
       if (n == var_name(v)) return v;
     return -1;
+  }
+
+  /* The text Lepton parses: W and its definitions "; name=value", in which
+     a param takes the place of the formula's own definition of its name
+     and the other params follow the formula's.  Lepton reads definitions
+     from the last one back, each seeing those after it, and a name defined
+     again silently keeps its first definition; a constant named like a
+     variable would silently replace the variable.  Both are errors here. */
+  static std::string with_constants(const std::string &expression,
+                                    const std::vector<std::pair<std::string, double>> &params)
+  {
+    auto fail = [&](const std::string &why) {
+      throw std::invalid_argument("W = '" + expression + "': " + why);
+    };
+    auto check_name = [&](const std::string &n, const std::string &how) {
+      if (is_variable(n))
+        fail(how + " '" + n + "' is a variable of W (" + variable_list() + "), not a constant");
+    };
+    std::map<std::string, std::string> given;    // param name -> value text
+    for (const auto &p : params) {
+      check_name(p.first, "param");
+      char buf[64];
+      std::snprintf(buf, sizeof(buf), "%.17g", p.second);
+      if (!given.emplace(p.first, buf).second) fail("param '" + p.first + "' given twice");
+    }
+    std::set<std::string> defined;
+    size_t cut = expression.find(';');
+    std::string full = expression.substr(0, cut);
+    while (cut != std::string::npos) {
+      const size_t next = expression.find(';', cut + 1);
+      const size_t len = (next == std::string::npos) ? next : next - cut - 1;
+      const std::string def = expression.substr(cut + 1, len);
+      cut = next;
+      const size_t eq = def.find('=');
+      const std::string name = trim(def.substr(0, eq));
+      if (eq == std::string::npos || name.empty()) {
+        full += ";" + def;    // Lepton names what is wrong with it
+        continue;
+      }
+      check_name(name, "the constant");
+      if (!defined.insert(name).second) fail("the constant '" + name + "' is defined twice");
+      const auto p = given.find(name);
+      full += (p == given.end()) ? ";" + def : "; " + name + "=" + p->second;
+    }
+    for (const auto &p : params)
+      if (!defined.count(p.first)) full += "; " + p.first + "=" + given[p.first];
+    return full;
+  }
+
+  static std::string trim(const std::string &t)
+  {
+    const size_t a = t.find_first_not_of(" \t\r\n");
+    if (a == std::string::npos) return "";
+    return t.substr(a, t.find_last_not_of(" \t\r\n") - a + 1);
   }
 
   void bind()

@@ -26,6 +26,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <cstring>
 #include <string>
 #include <vector>
@@ -93,7 +94,31 @@ struct UmatPoint {
   int npt = 1;    // integration point: 1, or 2 + the bond's slot (bond-associated families)
 };
 
-enum class UmatStatus { OK, UNDEFINED, NONFINITE, ABORT };
+enum class UmatStatus { OK, UNDEFINED, NONFINITE, ABORT, STATEV_OVERFLOW };
+
+/* A UMAT that writes more STATEV than NSTATV would overwrite the heap
+   past its buffer.  The buffer carries a guard zone of NaNs with a payload
+   no arithmetic produces, compared bit for bit after each call: an
+   overwritten guard is reported, and the zone absorbs the overflow of a
+   UMAT that writes up to STATEV_GUARD values too many. */
+constexpr int STATEV_GUARD = 64;
+constexpr std::uint64_t STATEV_SENTINEL = 0x7ff8dead5eed1e55ULL;
+
+inline void fill_guard(double *g)
+{
+  for (int k = 0; k < STATEV_GUARD; k++) std::memcpy(g + k, &STATEV_SENTINEL, sizeof(double));
+}
+
+inline bool guard_intact(const double *g)
+{
+  std::uint64_t diff = 0;
+  for (int k = 0; k < STATEV_GUARD; k++) {
+    std::uint64_t bits;
+    std::memcpy(&bits, g + k, sizeof(bits));
+    diff |= bits ^ STATEV_SENTINEL;
+  }
+  return diff == 0;
+}
 
 // symmetric tensor <-> Abaqus Voigt vector of length ntens; shear x2 for strains
 inline void to_voigt(const Mat3 &a, int ntens, double shear, double *v)
@@ -169,10 +194,11 @@ inline UmatStatus umat_point(const UmatMaterial &m, const UmatPoint &pt, const M
   }
 
   // the UMAT may write into both: per-call copies, in buffers kept per
-  // thread so that a step allocates nothing
+  // thread so that a step allocates nothing; STATEV ends in a guard zone
   thread_local std::vector<double> statev, props;
-  statev.assign(std::max(1, m.nstatev), 0.0);
+  statev.resize(m.nstatev + STATEV_GUARD);
   for (int k = 0; k < m.nstatev; k++) statev[k] = hn[STATEV + k];
+  fill_guard(statev.data() + m.nstatev);
   props.assign(m.props.begin(), m.props.end());
   if (props.empty()) props.push_back(0.0);
   double ddsdde[36] = {}, ddsddt[6] = {}, drplde[6] = {};
@@ -194,6 +220,7 @@ inline UmatStatus umat_point(const UmatMaterial &m, const UmatPoint &pt, const M
        dstran, time, &dtime, &temp, &dtemp, &predef, &dpred, cmname, &ndi, &nshr, &ntens,
        &nstatv, props.data(), &nprops, coords, rot.data(), &pnewdt, &celent, dfgrd0.data(),
        dfgrd1.data(), &noel, &npt, &layer, &kspt, &kstep, &kinc, sizeof(cmname));
+  if (!guard_intact(statev.data() + m.nstatev)) return UmatStatus::STATEV_OVERFLOW;
   if (umat_report().abort) return UmatStatus::ABORT;
 
   bool finite_out = std::isfinite(sse) && std::isfinite(spd) && std::isfinite(scd);

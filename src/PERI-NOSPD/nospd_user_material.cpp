@@ -14,6 +14,7 @@
 
 #include "nospd_formula.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <dlfcn.h>
@@ -132,7 +133,15 @@ bool NospdUserMaterials::parse(const std::vector<std::string> &words, size_t &k,
     const std::string name = words[k + 1];
     if (!utils::is_id(name) || std::isdigit(name[0]))
       error->all(FLERR, "{}: param name '{}' is not a valid name", where, name);
+    if (NOSPD::FormulaLaw::is_variable(name))
+      error->all(FLERR, "{}: param {} names a variable of W ({}), not a constant", where, name,
+                 NOSPD::FormulaLaw::variable_list());
     const double v = number(words[k + 2]);
+    // a material file entry's params, then the pair_coeff line's, which
+    // replace them; one list naming a constant twice is a mistake
+    if (std::find(s.listed.begin(), s.listed.end(), name) != s.listed.end())
+      error->all(FLERR, "{}: param {} given twice (the second: {})", where, name, words[k + 2]);
+    s.listed.push_back(name);
     bool replaced = false;
     for (auto &p : s.params)
       if (p.first == name) {
@@ -278,7 +287,7 @@ void NospdUserMaterials::setup_umat(int itype, Law law, Plane plane, const std::
                "for plane stress receives NTENS = 3 in Abaqus; not offered)", where);
   std::string path;
   void *h = open_library(itype, path);
-  const std::string sym = s.symbol.empty() ? "umat_" : s.symbol;
+  const std::string sym = symbol(itype);
   dlerror();
   void *fn = dlsym(h, sym.c_str());
   if (!fn)

@@ -36,6 +36,7 @@ class NospdUserMaterials : protected Pointers {
     std::string library, symbol;                          // UMAT shared object and entry
     std::vector<double> props;                            // UMAT PROPS
     int nstatev = 0;                                      // UMAT NSTATV
+    std::vector<std::string> listed;    // param names of the keyword list being read
     bool any() const { return !energy.empty() || !library.empty(); }
   };
 
@@ -46,7 +47,9 @@ class NospdUserMaterials : protected Pointers {
   Spec &spec(int itype) { return specs[itype]; }
 
   // Consume the keyword at words[k] if it is one of ours (energy, param,
-  // umat, symbol, props, statev), advancing k; false if it is not.
+  // umat, symbol, props, statev), advancing k; false if it is not.  A
+  // list's params replace those of an earlier list (a material file
+  // entry's); clear s.listed before each list.
   bool parse(const std::vector<std::string> &words, size_t &k, Spec &s,
              const std::string &where) const;
 
@@ -60,6 +63,10 @@ class NospdUserMaterials : protected Pointers {
   int history_size() const;    // values per atom the UMAT types need (0: none)
   const NOSPD::UmatMaterial &umat(int itype) const { return umats[itype]; }
   const std::string &library(int itype) const { return specs[itype].library; }
+  std::string symbol(int itype) const
+  {
+    return specs[itype].symbol.empty() ? "umat_" : specs[itype].symbol;
+  }
 
   void write_restart(FILE *fp) const;
   void read_restart(FILE *fp);

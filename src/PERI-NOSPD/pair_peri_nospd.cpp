@@ -408,6 +408,7 @@ void PairPeriNospd::parse_inelastic(const std::vector<std::string> &words, NOSPD
   if (has("hardening") && !has_yield && fl.kind == Hardening::JOHNSON_COOK)
     error->all(FLERR, "{}: hardening applies to a yield stress (keyword yield); johnson_cook "
                "has its own (B, n)", where);
+  us.listed.clear();    // this list's params may replace the file's, not each other
   size_t k = 0;
   while (k < words.size()) {
     const std::string key = words[k];
@@ -1346,6 +1347,12 @@ void PairPeriNospd::umat_failure(int i, NOSPD::UmatStatus st, const Mat3 &F) con
     error->one(FLERR, "pair_style {}: the UMAT of type {} ({}) stopped at atom {} on step {}: {}",
                force->pair_style, itype, lib, atom->tag[i], update->ntimestep,
                NOSPD::umat_report().message);
+  if (st == NOSPD::UmatStatus::STATEV_OVERFLOW)
+    error->one(FLERR, "pair_style {}: the UMAT of type {} ({}, symbol {}) wrote past its NSTATV "
+               "= {} state variables (statev {}) at atom {} on step {}: declare as many as it "
+               "writes with 'statev N'", force->pair_style, itype, lib,
+               user_materials->symbol(itype), user_materials->umat(itype).nstatev,
+               user_materials->umat(itype).nstatev, atom->tag[i], update->ntimestep);
   if (st == NOSPD::UmatStatus::NONFINITE)
     error->one(FLERR, "pair_style {}: the UMAT of type {} ({}) returned a non-finite stress, "
                "energy or state variable at atom {} on step {}{}", force->pair_style, itype, lib,

@@ -18,6 +18,8 @@
 #include "modify.h"
 #include "pair.h"
 #include "min.h"
+#include "output.h"
+#include "thermo.h"
 #include "variable.h"
 
 #include "gmock/gmock.h"
@@ -428,6 +430,39 @@ TEST_P(Inelastic, MinimizeIsOneLoadStep)
     EXPECT_NEAR(eq[0][i], eq[1][i], 1e-4 * eq[1][i]);
   }
   EXPECT_GT(amax, 1e-3);
+}
+
+// minimize accepts its state at its end (post_run), after its last output:
+// that output (thermo, here the mean eqps and the plastic work sum) shows
+// the state of its latest force evaluation, which is the one accepted.  A
+// periodic body under eps = diag(0.003, -0.001, 0): one radial return with
+// linear hardening gives eqps = (q_trial - sigma_y) / (3 G + H) at every
+// point, q_trial = 2 G sqrt(3/2) |dev eps|.
+TEST_P(Inelastic, MinimizeOutputShowsItsState)
+{
+  const double sy = 1e8, H = 2e9, G = E / (2 * (1 + NU));
+  block("strain small", "yield " + num(sy) + " hardening linear " + num(H), 8, true);
+  cmd(lmp, "compute s all nospd/atom eqps");
+  cmd(lmp, "compute ea all reduce ave c_s[1]");
+  cmd(lmp, "thermo_style custom step c_ea f_NOSPD_BONDS[4]");
+  cmd(lmp, "run 0");
+  cmd(lmp, "change_box all x scale 1.003 y scale 0.999 remap units box");
+  cmd(lmp, "displace_atoms all random 2e-6 2e-6 2e-6 4411 units box");
+  cmd(lmp, "min_modify dmax 1e-5");
+  cmd(lmp, "minimize 0.0 1e-12 2000 20000");
+  const auto &last = lmp->output->thermo->get_fields();    // the minimization's last line
+  const double eq_out = last[1].data.d, work_out = last[2].data.d;
+  const auto eq = peratom(lmp, "s", 0);
+  double mean = 0.0;
+  for (double v : eq) mean += v / eq.size();
+  const double work = lmp->modify->get_fix_by_id("NOSPD_BONDS")->compute_vector(3);
+  const double tr = 0.002, dev[3] = {0.003 - tr / 3, -0.001 - tr / 3, -tr / 3};
+  const double q = 2 * G * std::sqrt(1.5 * (dev[0] * dev[0] + dev[1] * dev[1] + dev[2] * dev[2]));
+  const double expect = (q - sy) / (3 * G + H);
+  EXPECT_NEAR(mean, expect, 1e-3 * expect);
+  EXPECT_NEAR(eq_out, mean, 1e-12 * mean);
+  EXPECT_GT(work, 0.0);
+  EXPECT_NEAR(work_out, work, 1e-12 * work);
 }
 
 // A minimize step is quasi-static: the Johnson-Cook rate term stays off,

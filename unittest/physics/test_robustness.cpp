@@ -674,4 +674,62 @@ TEST_F(Robustness, NonFiniteVelocityStops)
                              " has a non-finite position or velocity"));
 }
 
+// 2D volumes are area x thickness t.  Volumes of area x t without the
+// thickness keyword (t = 1: a family holds t times its disk's volume)
+// skew the stabilization and the stable time step estimate: one warning
+// names the thickness the volumes imply (the fullest family of this square
+// grid holds 29 points, 1.019 times its disk pi (3.01 dx)^2).  (Volumes of
+// area alone with a thickness t < 1 imply a spacing beyond the horizon,
+// an error of its own.)  Consistent volumes warn of nothing.
+TEST(RobustnessTwoD, PlaneVolumesAgainstThickness)
+{
+  struct Case {
+    double t_in_volume;
+    const char *settings, *implied;    // implied: "" for no warning
+  };
+  const Case cases[] = {{0.002, "plane stress", "0.00204"},
+                        {0.002, "plane strain", "0.00204"},
+                        {7.0, "plane strain", "7.13"},
+                        {0.002, "plane stress thickness 0.002", ""},
+                        {1.0, "plane strain", ""}};
+  for (const auto &c : cases) {
+    SCOPED_TRACE(std::string(c.settings) + ", volume dx^2 x " + num(c.t_in_volume));
+    LAMMPS *lmp = open_lammps();
+    Block blk;
+    blk.dim = 2;
+    blk.n = 12;
+    blk.settings = c.settings;
+    make_block(lmp, blk);
+    cmd(lmp, "set group all volume " + num(blk.dx * blk.dx * c.t_in_volume));
+    const auto text = log_of(lmp, {"run 0", "run 0"});
+    const std::string warning = "in 2D a point's volume (vfrac) is its area times the thickness";
+    if (*c.implied) {
+      EXPECT_THAT(text, HasSubstr("imply a thickness of about " + std::string(c.implied) + "."));
+      EXPECT_EQ(text.find(warning), text.rfind(warning));    // once
+    } else {
+      EXPECT_EQ(text.find(warning), std::string::npos);
+    }
+    delete lmp;
+  }
+}
+
+// LAMMPS's default min_modify dmax, 0.1 distance units, is 10 cm in si
+// units: its trial moves lose atoms ("Lost atoms" without a cause).  The
+// setup of the minimization warns past a tenth of the horizon, once per
+// value; a dmax of a fraction of the spacing is quiet.
+TEST_F(Robustness, MinimizeDmaxAgainstHorizon)
+{
+  Block blk;
+  blk.n = 8;
+  blk.periodic = true;
+  make_block(lmp, blk);
+  const std::string warning = "min_modify dmax 0.1 exceeds a tenth of the horizon 0.00301";
+  auto text = log_of(lmp, {"minimize 0 0 0 0", "minimize 0 0 0 0"});
+  EXPECT_THAT(text, HasSubstr(warning));
+  EXPECT_THAT(text, HasSubstr("e.g. min_modify dmax 9e-06"));
+  EXPECT_EQ(text.find(warning), text.rfind(warning));
+  text = log_of(lmp, {"min_modify dmax 1e-5", "minimize 0 0 0 0"});
+  EXPECT_EQ(text.find("exceeds a tenth of the horizon"), std::string::npos);
+}
+
 }    // namespace

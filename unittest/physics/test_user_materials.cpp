@@ -300,42 +300,106 @@ TEST(UserFormula, BadInput)
               HasSubstr("strain formula has no inelastic form"));
 }
 
+// a material file in the build folder: the header line, then `entries`
+bool write_material_file(const char *file, const char *entries)
+{
+  FILE *fp = fopen(file, "w");
+  if (!fp) return false;
+  fprintf(fp, "# DATE: 2026-11-24 UNITS: si CONTRIBUTOR: test CITATION: none\n%s", entries);
+  fclose(fp);
+  return true;
+}
+
+// the energy of a strain formula block of n^3 points stretched along x,
+// under `pair_coeff * * coeff` (E and nu: those of the block's first line)
+double stretched_energy(const std::string &coeff, double e, double nu, int n, double stretch)
+{
+  LAMMPS *lmp = open_lammps();
+  Block b;
+  b.n = n;
+  b.settings = "strain formula";
+  b.E = e;
+  b.nu = nu;
+  make_block(lmp, b);
+  cmd(lmp, "pair_coeff * * " + coeff);
+  double **x = lmp->atom->x, **x0 = lmp->atom->x0;
+  for (int i = 0; i < lmp->atom->nlocal; i++) x[i][0] = stretch * x0[i][0];
+  cmd(lmp, "run 0");
+  const double pe = potential_energy(lmp);
+  delete lmp;
+  return pe;
+}
+
 // a material file entry may carry the energy and its constants; pair_coeff
 // keywords after it override them (the file is written to the build folder)
 TEST(UserFormula, MaterialFileEntry)
 {
   const char *file = "user_materials_test.nospd";
-  FILE *fp = fopen(file, "w");
-  ASSERT_NE(fp, nullptr);
-  fprintf(fp, "# DATE: 2026-11-24 UNITS: si CONTRIBUTOR: test CITATION: none\n"
-              "# a Mooney-Rivlin rubber for the test only\n"
-              "mr_test 2.9032e6 0.45161 1100 0 energy \"C10*(I1b-3) + C01*(I2b-3) + "
-              "0.5*K*(J-1)^2\" param C10 0.4e6 param C01 0.1e6 param K 10.0e6\n");
-  fclose(fp);
+  ASSERT_TRUE(write_material_file(file, "# a Mooney-Rivlin rubber for the test only\n"
+                                        "mr_test 2.9032e6 0.45161 1100 0 energy \"C10*(I1b-3) + "
+                                        "C01*(I2b-3) + 0.5*K*(J-1)^2\" param C10 0.4e6 param "
+                                        "C01 0.1e6 param K 10.0e6\n"));
   double pe[3];
   const std::string coeff[3] = {
       std::string("mr_test 0.00301"), std::string("mr_test 0.00301 param C01 0.2e6"),
       std::string("2.9032e6 0.45161 0.00301 energy \"C10*(I1b-3) + C01*(I2b-3) + 0.5*K*(J-1)^2\" "
                   "param C10 0.4e6 param C01 0.1e6 param K 10.0e6")};
-  for (int c = 0; c < 3; c++) {
-    LAMMPS *lmp = open_lammps();
-    Block b;
-    b.n = 6;
-    b.settings = "strain formula";
-    b.E = 2.9032e6;
-    b.nu = 0.45161;
-    make_block(lmp, b);
-    cmd(lmp, "pair_coeff * * " + std::string(c < 2 ? file : "") + " " + coeff[c]);
-    double **x = lmp->atom->x, **x0 = lmp->atom->x0;
-    for (int i = 0; i < lmp->atom->nlocal; i++) x[i][0] = 1.1 * x0[i][0];
-    cmd(lmp, "run 0");
-    pe[c] = potential_energy(lmp);
-    delete lmp;
-  }
+  for (int c = 0; c < 3; c++)
+    pe[c] = stretched_energy(std::string(c < 2 ? file : "") + " " + coeff[c], 2.9032e6, 0.45161,
+                             6, 1.1);
   std::remove(file);
   EXPECT_GT(pe[0], 0.0);
   EXPECT_NEAR(pe[0], pe[2], 1e-12 * pe[0]);    // file = inline
   EXPECT_GT(pe[1], pe[0] * 1.01);              // the override took
+}
+
+// a Yeoh-like rubber stretched by 1 % (file: a material file of the build folder)
+double yeoh_energy(const std::string &coeff, const std::string &file = "")
+{
+  return stretched_energy(file + " " + coeff, 3.0e6, 0.45, 5, 1.01);
+}
+
+// param replaces a constant of the formula's own, inline or in a material
+// file entry (the pair_coeff line's keywords override the entry's)
+TEST(UserFormula, ParamReplacesConstantOfTheFormula)
+{
+  const std::string W = "energy \"C10*(I1b-3) + 0.5*K*(J-1)^2";
+  const std::string head = "3e6 0.45 0.00301 ";
+  const double k7 = yeoh_energy(head + W + "\" param C10 5.17e5 param K 1e7");
+  const double k9 = yeoh_energy(head + W + "\" param C10 5.17e5 param K 1e9");
+  ASSERT_GT(k9, 2.0 * k7);
+  EXPECT_NEAR(yeoh_energy(head + W + "; K=1e7; C10=5.17e5\""), k7, 1e-12 * k7);
+  EXPECT_NEAR(yeoh_energy(head + W + "; K=1e7; C10=5.17e5\" param K 1e9"), k9, 1e-12 * k9);
+  // a definition that uses another sees the replaced value
+  EXPECT_NEAR(yeoh_energy(head + W + "; K=100*K0; K0=1e5; C10=5.17e5\" param K0 1e7"), k9,
+              1e-12 * k9);
+  const char *file = "user_materials_param_test.nospd";
+  ASSERT_TRUE(write_material_file(file, "yeoh_inline 3e6 0.45 1100 0 energy \"C10*(I1b-3) + "
+                                        "0.5*K*(J-1)^2; C10=5.17e5; K=1e7\"\n"
+                                        "yeoh_param 3e6 0.45 1100 0 energy \"C10*(I1b-3) + "
+                                        "0.5*K*(J-1)^2\" param C10 5.17e5 param K 1e7\n"));
+  const double file_k9[2] = {yeoh_energy("yeoh_inline 0.00301 param K 1e9", file),
+                             yeoh_energy("yeoh_param 0.00301 param K 1e9", file)};
+  std::remove(file);
+  for (double e : file_k9) EXPECT_NEAR(e, k9, 1e-12 * k9);
+}
+
+// a name defined twice, or given twice by param in one keyword list, and a
+// constant named like a variable of W (which would replace it) are errors
+TEST(UserFormula, AmbiguousConstantsAreErrors)
+{
+  const std::string W = "energy \"C10*(I1b-3) + 0.5*K*(J-1)^2";
+  EXPECT_THAT(error_of_deck("strain formula", W + "; K=1e7; K=1e9; C10=5e5\""),
+              HasSubstr("the constant 'K' is defined twice"));
+  EXPECT_THAT(error_of_deck("strain formula", W + "\" param C10 5e5 param K 1e7 param K 1e9"),
+              HasSubstr("param K given twice (the second: 1e9)"));
+  for (const char *name : {"J", "I1", "I2", "I1b", "I2b", "l1", "l2", "l3"}) {
+    EXPECT_THAT(error_of_deck("strain formula", W + "\" param C10 5e5 param K 1e7 param " +
+                                                    name + " 1.0"),
+                HasSubstr(std::string("param ") + name + " names a variable of W"));
+    EXPECT_THAT(error_of_deck("strain formula", W + "; " + name + "=1; C10=5e5; K=1e7\""),
+                HasSubstr(std::string("the constant '") + name + "' is a variable of W"));
+  }
 }
 
 // a formula that goes non-finite under load names the formula and the atom;
@@ -513,6 +577,19 @@ TEST(UserUmat, BadInput)
   EXPECT_THAT(error_of_deck("strain umat", "umat " + umat_lib("umat_elastic.so") + " props 3 200e9 0.3"),
               HasSubstr("props 3 needs 3 values, got 2"));
   EXPECT_THAT(error_of_deck("strain umat", ""), HasSubstr("strain umat needs a library for type 1"));
+  // a UMAT that writes more STATEV than declared stops before the heap suffers
+  for (const char *style : {"peri/nospd", "peri/nospd/hs"})
+    for (int declared : {0, 2})
+      EXPECT_THAT(error_of_deck("strain umat", "umat " + umat_lib("umat_elastic.so") +
+                                                   " props 4 200e9 0.3 0 " +
+                                                   std::to_string(declared + 3) + " statev " +
+                                                   std::to_string(declared), style),
+                  ::testing::AllOf(HasSubstr("umat_elastic.so, symbol umat_) wrote past its "
+                                             "NSTATV = " + std::to_string(declared)),
+                                   ::testing::ContainsRegex("at atom [0-9]+ on step 0")))
+          << style;
+  EXPECT_EQ(error_of_deck("strain umat", "umat " + umat_lib("umat_elastic.so") +
+                                             " props 4 200e9 0.3 0 2 statev 2"), "");
   EXPECT_THAT(error_of_deck("strain umat plane stress",
                             "umat " + umat_lib("umat_elastic.so") + " props 2 200e9 0.3",
                             "peri/nospd", 2),

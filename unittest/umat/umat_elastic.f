@@ -1,7 +1,8 @@
 c     Isotropic linear elasticity as an Abaqus UMAT, for the tests of
 c     PERI-NOSPD's strain umat (the built-in strain small law is the
 c     reference).  PROPS(1) = E, PROPS(2) = nu; PROPS(3) /= 0 makes it
-c     return a NaN stress (the bad-output check).  Works for NTENS = 6
+c     return a NaN stress (the bad-output check); PROPS(4) = n makes it
+c     write STATEV(1..n) whatever NSTATV is (the overflow check).  Works for NTENS = 6
 c     (3D) and NTENS = 4 (plane strain).  SSE by the trapezoidal rule,
 c     exact for a linear law.
       subroutine umat(stress,statev,ddsdde,sse,spd,scd,
@@ -48,6 +49,11 @@ c     exact for a linear law.
           zero = 0.d0
           stress(1) = zero/zero
         end if
+      end if
+      if (nprops .ge. 4) then
+        do i = 1, int(props(4))
+          statev(i) = 1.d0
+        end do
       end if
       return
       end
