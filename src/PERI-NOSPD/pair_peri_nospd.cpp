@@ -911,6 +911,7 @@ void PairPeriNospd::init_style()
   }
   comm_tensors = (stab == Stab::WAN || stab == Stab::HOURGLASS) ? 2 : 1;
   comm_forward = NOSPD::BREC + 9 * (comm_tensors - 1) + (quadratic_active() ? NOSPD::QREC : 0);
+  raise_hybrid_comm_forward();
 
   // inelastic types: history in the bonds fix, a temperature source
   // user materials: formula laws go into lame[i].user, UMATs are opened
@@ -978,6 +979,21 @@ void PairPeriNospd::init_style()
    fixes that hold a pressure act on LAMMPS's pressure, which here is the
    body's stress divided by the point volume (forces are densities)
 ------------------------------------------------------------------------- */
+
+/* ----------------------------------------------------------------------
+   Comm sizes its buffers from force->pair->comm_forward at its init, which
+   follows this one.  Under pair hybrid that is the hybrid's, the largest of
+   its sub-styles' taken at its settings, before this style knew its
+   record (the stabilization's tensors, the quadratic fit's Q): raise it.
+------------------------------------------------------------------------- */
+
+void PairPeriNospd::raise_hybrid_comm_forward()
+{
+  if (force->pair && force->pair != this)
+    force->pair->comm_forward = MAX(force->pair->comm_forward, comm_forward);
+}
+
+/* ---------------------------------------------------------------------- */
 
 void PairPeriNospd::warn_barostats(const std::string &cmd)
 {

@@ -221,6 +221,7 @@ class PairPeriNospd : public Pair {
   void check_inelastic(int itype) const;
   void check_history_law();
   void warn_barostats(const std::string &cmd);
+  void raise_hybrid_comm_forward();
   void check_one_plane(double spacing);
   void fill_base_temperature();
   void inelastic_failure(int i, NOSPD::ReturnStatus st, const NOSPD::Mat3 &F) const;

@@ -238,6 +238,7 @@ void PairPeriNospdHS::init_style()
   // keys and flags at least
   if (!stab_on) comm_forward = 0;
   comm_forward = MAX(comm_forward, 1);
+  raise_hybrid_comm_forward();
   // the law may have changed: stencils anew
   pattern_stencils.clear();
   point_stencils.clear();

@@ -114,6 +114,22 @@ inline std::vector<std::array<double, 3>> by_tag(LAMMPS *lmp, double **v)
   return out;
 }
 
+// Two by_tag vectors agree to rel times the largest component of a (which
+// must not vanish: a test of zero forces proves nothing).
+inline void expect_same_vectors(const std::vector<std::array<double, 3>> &a,
+                                const std::vector<std::array<double, 3>> &b, double rel)
+{
+  ASSERT_EQ(a.size(), b.size());
+  double amax = 0.0, diff = 0.0;
+  for (size_t i = 0; i < a.size(); i++)
+    for (int k = 0; k < 3; k++) {
+      amax = std::max(amax, std::abs(a[i][k]));
+      diff = std::max(diff, std::abs(a[i][k] - b[i][k]));
+    }
+  EXPECT_GT(amax, 0.0);
+  EXPECT_LE(diff, rel * amax);
+}
+
 inline double potential_energy(LAMMPS *lmp)
 {
   auto *pe = lmp->modify->get_compute_by_id("thermo_pe");

@@ -486,15 +486,7 @@ TEST_F(HSDeck, Restart)
   EXPECT_TRUE(p->form() == NOSPD::HSForm::II);
   EXPECT_FALSE(p->stencil_enabled());
   cmd(lmp, "run 0");
-  const auto f1 = by_tag(lmp, lmp->atom->f);
-  double fmax = 0.0, df = 0.0;
-  for (size_t i = 0; i < f0.size(); i++)
-    for (int k = 0; k < 3; k++) {
-      fmax = std::max(fmax, std::abs(f0[i][k]));
-      df = std::max(df, std::abs(f1[i][k] - f0[i][k]));
-    }
-  EXPECT_GT(fmax, 0.0);
-  EXPECT_LE(df, 1e-12 * fmax);
+  expect_same_vectors(f0, by_tag(lmp, lmp->atom->f), 1e-12);
   EXPECT_NEAR(lmp->force->pair->eng_vdwl, e0, 1e-12 * std::abs(e0));
 }
 

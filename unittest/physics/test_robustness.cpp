@@ -159,6 +159,48 @@ TEST_F(Robustness, HybridWithMdStyleRuns)
   EXPECT_EQ(error_of(lmp, "run 2"), "");
 }
 
+// Under hybrid the Comm buffers follow the hybrid's comm_forward, which it
+// took from its sub-styles before they knew their records: the quadratic
+// fit's Q (28 doubles a point instead of 10) overran them (a heap
+// corruption on one rank with ghosts, a segfault on two).  A periodic
+// block under a quadratic displacement, so that every point has ghosts
+// and Q is not zero: forces as without hybrid.
+namespace {
+std::vector<std::array<double, 3>> quadratic_fit_forces(LAMMPS *lmp, const std::string &style,
+                                                        const std::vector<std::string> &coeffs)
+{
+  cmd(lmp, "units si");
+  cmd(lmp, "boundary p p p");
+  cmd(lmp, "atom_style peri");
+  cmd(lmp, "atom_modify map array");
+  cmd(lmp, "lattice sc 0.001");
+  cmd(lmp, "region box block 0 8 0 8 0 8");
+  cmd(lmp, "create_box 1 box");
+  cmd(lmp, "create_atoms 1 box");
+  cmd(lmp, "set group all density 7850");
+  cmd(lmp, "set group all volume 1e-9");
+  cmd(lmp, "pair_style " + style);
+  for (const auto &c : coeffs) cmd(lmp, c);
+  cmd(lmp, "variable ux atom 0.001*x*x/0.006");
+  cmd(lmp, "displace_atoms all move v_ux 0 0 units box");
+  cmd(lmp, "run 0 post no");
+  return by_tag(lmp, lmp->atom->f);
+}
+}    // namespace
+
+TEST_F(Robustness, HybridCommunicatesTheQuadraticFit)
+{
+  const std::string stab = "peri/nospd stabilization silling 1 stabilization/fit quadratic";
+  const auto plain = quadratic_fit_forces(lmp, stab, {"pair_coeff * * 200e9 0.3 0.00301"});
+  LAMMPS *hyb = open_lammps();
+  const auto hybrid = quadratic_fit_forces(
+      hyb, "hybrid/overlay " + stab + " zero 0.001",
+      {"pair_coeff * * peri/nospd 200e9 0.3 0.00301", "pair_coeff * * zero"});
+  EXPECT_GE(hyb->force->pair->comm_forward, 28);
+  delete hyb;
+  expect_same_vectors(plain, hybrid, 1e-12);
+}
+
 /* ---------------------------------------------------------------------- */
 
 TEST_F(Robustness, CoincidentPointsStopNamingBoth)
