@@ -1273,9 +1273,12 @@ std::string FixNospdBonds::unstable_cause() const
   const bool periodic = domain->xperiodic || domain->yperiodic || domain->zperiodic;
   if (est > 0.0)
     return fmt::format(" although timestep {:.4g} is below the stable estimate {:.4g}: look "
-                       "for a stiff contact, an overlapping body or a large applied velocity{}",
-                       update->dt, est,
-                       periodic ? ", or for displacements beyond half the periodic box length "
+                       "for a stiff contact, an overlapping body or a large applied velocity{}; "
+                       "or reduce the time step: the estimate is a bond-based body's, and "
+                       "correspondence families cut short or flattened (a body only a few "
+                       "points thick, a horizon as large as the body, points much closer than "
+                       "the spacing) are stiffer than it", update->dt, est,
+                       periodic ? ", for displacements beyond half the periodic box length "
                                   "(a large shear or rotation of a periodic body)" : "");
   return "";
 }

@@ -593,6 +593,35 @@ TEST_F(Robustness, UnstableRunStopsNamingTheCause)
   EXPECT_GT(lmp->update->ntimestep, 0);
 }
 
+// Below the estimate a body whose families all span it (a horizon of 20
+// spacings on a 6^3 body) still blows up (the correspondence model is
+// stiffer there than the bond-based estimate): the message says to reduce
+// the time step rather than only to look for a contact
+TEST_F(Robustness, UnstableBelowTheEstimateNamesTruncatedFamilies)
+{
+  cmd(lmp, "units si");
+  cmd(lmp, "boundary f f f");
+  cmd(lmp, "atom_style peri");
+  cmd(lmp, "atom_modify map array");
+  cmd(lmp, "lattice sc 0.001");
+  cmd(lmp, "region box block -3 8 -3 8 -3 8");
+  cmd(lmp, "create_box 1 box");
+  cmd(lmp, "region r block 0 5 0 5 0 5");
+  cmd(lmp, "create_atoms 1 region r");
+  cmd(lmp, "set group all density 7850");
+  cmd(lmp, "set group all volume 1e-9");
+  cmd(lmp, "pair_style peri/nospd");
+  cmd(lmp, "pair_coeff * * 200e9 0.3 0.020");
+  cmd(lmp, "displace_atoms all random 1e-6 1e-6 1e-6 4928 units box");
+  cmd(lmp, "fix 1 all nve");
+  cmd(lmp, "run 0");
+  cmd(lmp, "timestep " + num(0.5 * bonds(lmp)->stable_timestep(1)));
+  const auto msg = error_of(lmp, "run 200");
+  EXPECT_THAT(msg, HasSubstr("is below the stable estimate"));
+  EXPECT_THAT(msg, HasSubstr("or reduce the time step"));
+  EXPECT_THAT(msg, HasSubstr("a horizon as large as the body"));
+}
+
 // the estimate goes to the log at setup, and a warning when the time step
 // exceeds it (the run may still survive a little above it)
 TEST_F(Robustness, TimestepAboveTheEstimateWarns)
