@@ -102,7 +102,12 @@ class FormulaLaw : public PointLaw {
 
   // the names W's variables take, which no constant may take
   static bool is_variable(const std::string &n) { return lookup(n) >= 0; }
-  static std::string variable_list() { return "I1 I2 J I1b I2b l1 l2 l3"; }
+  static std::string variable_list()
+  {
+    std::string list = var_name(0);
+    for (int v = 1; v < NVAR; v++) list += std::string(" ") + var_name(v);
+    return list;
+  }
 
   const std::string &expression() const { return text; }
   bool uses(Var v) const { return used[v]; }
