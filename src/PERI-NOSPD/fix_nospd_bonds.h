@@ -37,6 +37,17 @@ struct NospdBondModel {
   // [ntypes+1]: bond-based micromodulus with the material's P-wave modulus,
   // for the stable time step estimate (0: not estimated)
   const double *wave_micromodulus = nullptr;
+  // [ntypes+1], for the bound on the correspondence operator's stiffness
+  // that the estimate also takes (classical style; null: not bounded):
+  // the norm of the elasticity tensor, 3K in 3D (0: not bounded), and the
+  // stabilization's bond stiffness
+  const double *stress_norm = nullptr;
+  const double *spring = nullptr;
+  // how the spring acts per bond: NONE; PER_WEIGHT (Silling: w s z);
+  // PER_LENGTH (hourglass: w s/|xi| along the bond); WAN (w S z with
+  // |S| <= |C| |K^-1|, spring unused)
+  enum Spring { NONE, PER_WEIGHT, PER_LENGTH, WAN };
+  int spring_kind = NONE;
   // keep each family's quadratic fit operator (kinv2): stabilization/fit quadratic
   bool quadratic = false;
 };
@@ -58,6 +69,8 @@ class FixNospdBonds : public FixPeriNeigh {
   int setmask() override;
   void init() override;
   void setup(int) override;
+  int pack_forward_comm(int, int *, double *, int, int *) override;
+  void unpack_forward_comm(int, int, double *) override;
   void setup_post_neighbor() override;
   void post_integrate() override;
   void post_neighbor() override;
@@ -101,6 +114,11 @@ class FixNospdBonds : public FixPeriNeigh {
     return (type < (int) dt_reported.size() && dt_reported[type] < 1.0e300) ? dt_reported[type]
                                                                             : 0.0;
   }
+  // its parts: the bond-based body's, and the bound on the correspondence
+  // stiffness (0: none; the estimate takes the smaller of the first and
+  // twice the second)
+  double bond_based_timestep(int type) const { return part_of(dt_bond, type); }
+  double stiffness_bound_timestep(int type) const { return part_of(dt_bound, type); }
   const NospdBondModel &get_model() const { return model; }
 
   // Pass 1: F = I + (sum_j w U (x) xi) K^-1 for every owned atom.  When
@@ -261,11 +279,20 @@ class FixNospdBonds : public FixPeriNeigh {
   std::vector<double> family_horizon;    // [(ntypes+1)^2] horizons the families were built with
   void check_horizons();
   void report_stable_timestep();
+  void bound_stable_timesteps(std::vector<double> &dtmin);
+  // forward communication: FixPeriNeigh's (0) or the operator bound's (1)
+  int comm_mode = 0;
+  std::vector<double> op_point;    // per owned + ghost atom: D_i, |K_i^-1|
   void check_plane_volumes();
   bool plane_volumes_warned = false;
   void check_min_dmax();
   double dmax_warned = -1.0;          // the min_modify dmax last warned about
   std::vector<double> dt_reported;    // per type, the estimate last logged
+  std::vector<double> dt_bond, dt_bound;    // its two parts (BIG: none)
+  static double part_of(const std::vector<double> &v, int type)
+  {
+    return (type < (int) v.size() && v[type] < 1.0e300) ? v[type] : 0.0;
+  }
   double dt_checked = -1.0;           // the time step last checked against it
   tagint *own_tag;    // the atom's ID when its partners' IDs were last written
   int *family_type;   // the atom's type at the last setup (0: no family)

@@ -969,10 +969,42 @@ void PairPeriNospd::init_style()
     if (active[i])
       wave_c[i] = NOSPD::pwave_micromodulus(dim, plane_mode, lame[i], cut[i][i], thickness);
   model.wave_micromodulus = wave_c.data();
+  set_stiffness_bound(model);
   fix_bonds->set_model(model);
   fix_bonds->vote_pair_order(pair_order_usable());
   // no neighbor list: the families are fixed and live in the fix; the
   // ghost cutoff follows from the pair cutoff (horizon) plus the skin
+}
+
+/* ----------------------------------------------------------------------
+   what the bonds fix needs to bound the stiffness of pass 2 for the stable
+   time step (FixNospdBonds::bound_stable_timesteps): the norm of the
+   linearized C on tensors, its largest eigenvalue, 3 lambda + 2 mu (a
+   dilatation; in 2D 2 lambda + 2 mu with plane stress's lambda), and the
+   stabilization's bond stiffness.  The bound is the classical force's; the
+   bond-associated style's deformation gradients are not bounded by it.
+------------------------------------------------------------------------- */
+
+void PairPeriNospd::set_stiffness_bound(NospdBondModel &m)
+{
+  if (family_kind() != 1) return;
+  const int ntypes = atom->ntypes;
+  stress_norm.assign(ntypes + 1, 0.0);
+  for (int i = 1; i <= ntypes; i++) {
+    if (!active[i]) continue;
+    const NOSPD::Lame &l = lame[i];
+    const double lam = (domain->dimension == 2 && plane_mode == NOSPD::Plane::STRESS) ? l.lambda_ps
+                                                                                        : l.lambda;
+    stress_norm[i] = std::max(domain->dimension * lam + 2.0 * l.mu, 2.0 * l.mu);
+  }
+  m.stress_norm = stress_norm.data();
+  m.spring = stab_scalar;
+  switch (stab) {
+    case Stab::SILLING: m.spring_kind = NospdBondModel::PER_WEIGHT; break;
+    case Stab::HOURGLASS: m.spring_kind = NospdBondModel::PER_LENGTH; break;
+    case Stab::WAN: m.spring_kind = NospdBondModel::WAN; break;
+    default: m.spring_kind = NospdBondModel::NONE;
+  }
 }
 
 /* ----------------------------------------------------------------------

@@ -27,6 +27,7 @@ PairStyle(peri/nospd,PairPeriNospd);
 namespace LAMMPS_NS {
 
 class FixNospdBonds;
+struct NospdBondModel;
 
 /* Classical correspondence peridynamics (Silling et al. 2007):
      T_i<xi> = omega P_i K_i^-1 xi  (+ zero-energy-mode control)
@@ -86,6 +87,7 @@ class PairPeriNospd : public Pair {
   int influence;         // NospdBondModel::Influence
   double thickness;      // 2D: thickness carried by the volumes
   std::vector<double> wave_c;    // per type: micromodulus for the time step estimate
+  std::vector<double> stress_norm;    // per type: |C|, for the bound on the stiffness
   double singular_tol;    // conditioning below which a family's K is singular
   double damaged_tol;     // the same for a family that lost bonds
 
@@ -222,6 +224,7 @@ class PairPeriNospd : public Pair {
   void check_history_law();
   void warn_barostats(const std::string &cmd);
   void raise_hybrid_comm_forward();
+  void set_stiffness_bound(NospdBondModel &m);
   void check_one_plane(double spacing);
   void fill_base_temperature();
   void inelastic_failure(int i, NOSPD::ReturnStatus st, const NOSPD::Mat3 &F) const;

@@ -18,3 +18,9 @@ run 4 full np4
 run 2 first split
 run 1 second split
 /usr/bin/python3 "$HERE/compare_dumps.py" "$TOL" serial.dump np2.dump np4.dump split.dump
+# the stable time step estimate (the stiffness bound reads the partners'
+# terms through ghosts) is the same line on every rank count
+est() { grep -m1 "stable time step estimate" "$1.log" || true; }
+if [ "$(est serial)" != "$(est np2)" ] || [ "$(est serial)" != "$(est np4)" ]; then
+  echo "stable time step estimate differs between rank counts:"; est serial; est np2; est np4; exit 1
+fi
