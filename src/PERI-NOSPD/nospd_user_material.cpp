@@ -249,10 +249,15 @@ void NospdUserMaterials::setup_formula(int itype, Plane plane, NOSPD::Lame &m, d
   const double mu = 0.5 * (c11 - c12), lambda = c12;
   const double E_w = mu * (3 * lambda + 2 * mu) / (lambda + mu);
   const double nu_w = lambda / (2 * (lambda + mu));
-  if (!(std::abs(E_w - E) <= 1e-3 * E) || !(std::abs(nu_w - nu) <= 1e-3))
-    error->warning(FLERR, "{}: W = '{}' linearizes to E = {:.6g}, nu = {:.6g}, but pair_coeff "
+  if (!(std::abs(E_w - E) <= 1e-3 * E) || !(std::abs(nu_w - nu) <= 1e-3)) {
+    // the constants it was evaluated with: a param may replace the formula's own
+    std::string with;
+    for (const auto &p : s.params)
+      with += fmt::format("{}{} = {:.6g}", with.empty() ? " with " : ", ", p.first, p.second);
+    error->warning(FLERR, "{}: W = '{}'{} linearizes to E = {:.6g}, nu = {:.6g}, but pair_coeff "
                    "gives E = {:.6g}, nu = {:.6g}; E and nu set the stabilization and the "
-                   "time step estimate", where, s.energy, E_w, nu_w, E, nu);
+                   "time step estimate", where, s.energy, with, E_w, nu_w, E, nu);
+  }
   if (plane == Plane::STRESS && !(nu < 0.5))
     error->all(FLERR, "{}: plane stress needs nu < 0.5 for the F33 solve, got {}", where, nu);
 }

@@ -202,6 +202,11 @@ void PairPeriNospdHS::settings(int narg, char **arg)
         error->all(FLERR, "{}: the bond-associated model controls zero-energy modes by itself; "
                    "stabilization must be none, silling G or hourglass C, got '{}'", cmd, val);
       stabilized = false;
+    } else if (key == "stabilization/fit") {
+      // even "linear": the keyword means nothing here, and a deck moved
+      // over from peri/nospd should learn that rather than keep it silently
+      error->all(FLERR, "{}: stabilization/fit is a keyword of peri/nospd (the "
+                 "bond-associated deformation gradients need no springs)", cmd);
     } else {
       rest.push_back(arg[iarg]);
       rest.push_back(arg[iarg + 1]);
@@ -209,9 +214,6 @@ void PairPeriNospdHS::settings(int narg, char **arg)
     iarg += 2;
   }
   PairPeriNospd::settings((int) rest.size(), rest.data());
-  if (fit_quadratic)
-    error->all(FLERR, "pair_style {}: stabilization/fit is a keyword of peri/nospd (the "
-               "bond-associated deformation gradients need no springs)", force->pair_style);
   stab_on = stabilized;
   if (!stab_on) stab = NOSPD::Stab::NONE;
   // new settings may change every pattern

@@ -22,6 +22,9 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <cstdio>
+#include <fstream>
+#include <iterator>
 #include <string>
 #include <vector>
 
@@ -100,6 +103,20 @@ inline void make_block(LAMMPS *lmp, const Block &b)
   cmd(lmp, buf);
   cmd(lmp, "timestep 1e-9");
   cmd(lmp, "thermo_modify norm no");
+}
+
+// What LAMMPS writes while it runs `lines`, through a log file in the build
+// folder (removed after).
+inline std::string log_of(LAMMPS *lmp, const std::vector<std::string> &lines)
+{
+  const std::string log = "nospd_test_log_of.log";
+  cmd(lmp, "log " + log);
+  for (const auto &line : lines) cmd(lmp, line);
+  cmd(lmp, "log none");
+  std::ifstream in(log);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::remove(log.c_str());
+  return text;
 }
 
 // Per-atom vectors by atom ID - 1 (serial tests: every atom is local).

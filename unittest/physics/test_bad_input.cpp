@@ -172,6 +172,8 @@ TEST_F(BadInput, UnknownKeyword)
                         "not to stabilization hourglass"));
   EXPECT_THAT(error_of(lmp, "pair_style peri/nospd/hs stabilization/fit quadratic"),
               HasSubstr("stabilization/fit is a keyword of peri/nospd"));
+  EXPECT_THAT(error_of(lmp, "pair_style peri/nospd/hs stabilization/fit linear"),
+              HasSubstr("stabilization/fit is a keyword of peri/nospd"));
 }
 
 // families are built once: a horizon changed between runs is an error

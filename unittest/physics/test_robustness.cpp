@@ -37,20 +37,6 @@ FixNospdBonds *bonds(LAMMPS *lmp)
   return static_cast<FixNospdBonds *>(lmp->modify->get_fix_by_id("NOSPD_BONDS"));
 }
 
-// what LAMMPS writes while it runs `lines`, through a log file in the build
-// folder (removed after)
-std::string log_of(LAMMPS *lmp, const std::vector<std::string> &lines)
-{
-  const std::string log = "robustness_log_of.log";
-  cmd(lmp, "log " + log);
-  for (const auto &line : lines) cmd(lmp, line);
-  cmd(lmp, "log none");
-  std::ifstream in(log);
-  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  std::remove(log.c_str());
-  return text;
-}
-
 // a 3D block of 8 x 6 x 6 points, types 1 (x < 4 dx) and 2, SI units
 void two_type_block(LAMMPS *lmp)
 {

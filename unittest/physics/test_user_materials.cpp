@@ -384,6 +384,23 @@ TEST(UserFormula, ParamReplacesConstantOfTheFormula)
   for (double e : file_k9) EXPECT_NEAR(e, k9, 1e-12 * k9);
 }
 
+// W's small-strain moduli are held against E and nu; the warning gives the
+// constants W was evaluated with (a param replaces the formula's own)
+TEST(UserFormula, LinearizationWarningNamesTheConstants)
+{
+  LAMMPS *lmp = open_lammps();
+  Block b;
+  b.n = 5;
+  b.settings = "strain formula";
+  make_block(lmp, b);
+  const std::string text =
+      log_of(lmp, {"pair_coeff * * " + num(E) + " " + num(NU) + " " + num(b.delta()) +
+                       " energy \"C10*(I1b-3) + 0.5*K*(J-1)^2; K=1e9\" param C10 5.17e5 param K 1e7",
+                   "run 0"});
+  delete lmp;
+  EXPECT_THAT(text, HasSubstr("with C10 = 517000, K = 1e+07 linearizes to E = "));
+}
+
 // a name defined twice, or given twice by param in one keyword list, and a
 // constant named like a variable of W (which would replace it) are errors
 TEST(UserFormula, AmbiguousConstantsAreErrors)
