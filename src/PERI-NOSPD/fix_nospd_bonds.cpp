@@ -1162,7 +1162,7 @@ void FixNospdBonds::order_for_pairs()
    - twice the bound on the correspondence stiffness below, which sees
      K^-1.  The bound is sufficient (it bounds the linearized operator's
      largest eigenvalue from above); in every body measured the runs stayed
-     stable to 2.4-3.8 times it, and twice it lies at or just below the
+     stable to 2.4-4 times it, and twice it lies at or just below the
      bond-based estimate where families are whole (doc: "Stable time step").
    Both are the smallest over the points of each type.  Logged when they
    change; a warning when the time step exceeds the estimate.
@@ -1235,6 +1235,22 @@ void FixNospdBonds::report_stable_timestep()
    fit's spring is bounded as Silling's (its H is the linear fit's here).
 ------------------------------------------------------------------------- */
 
+namespace {
+// the largest eigenvalue of the symmetric K^-1 (in 2D of its in-plane
+// block: the out-of-plane entry is a placeholder)
+double spectral_norm(const NOSPD::Mat3 &Kinv, bool plane)
+{
+  if (plane) {
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(Kinv.topLeftCorner<2, 2>(),
+                                                            Eigen::EigenvaluesOnly);
+    return es.eigenvalues().cwiseAbs().maxCoeff();
+  }
+  Eigen::SelfAdjointEigenSolver<NOSPD::Mat3> es;
+  es.computeDirect(Kinv, Eigen::EigenvaluesOnly);
+  return es.eigenvalues().cwiseAbs().maxCoeff();
+}
+}    // namespace
+
 void FixNospdBonds::bound_stable_timesteps(std::vector<double> &dtmin)
 {
   using NOSPD::Mat3;
@@ -1245,12 +1261,14 @@ void FixNospdBonds::bound_stable_timesteps(std::vector<double> &dtmin)
   const int *type = atom->type;
   const double *rho = atom->rmass;
   const bool plane = (model.dim == 2);
-  auto owned = [&](int i) { return !(model.active && !model.active[type[i]]) && cn[type[i]] > 0.0; };
+  auto bounded = [&](int i) {
+    return !(model.active && !model.active[type[i]]) && cn[type[i]] > 0.0;
+  };
   // D_i and |K_i^-1| of owned points, then of ghosts
   op_point.assign(2 * (size_t) nall, 0.0);
   std::vector<double> mlen(nlocal, 0.0);
   for (int i = 0; i < nlocal; i++) {
-    if (singular[i] || !owned(i)) continue;
+    if (singular[i] || !bounded(i)) continue;
     const Mat3 Ki = NOSPD::load(kinv[i]);
     Vec3 m = Vec3::Zero();
     double d = 0.0;
@@ -1262,18 +1280,7 @@ void FixNospdBonds::bound_stable_timesteps(std::vector<double> &dtmin)
     }
     mlen[i] = (Ki * m).norm();
     op_point[2 * i] = d + mlen[i];
-    // K^-1 is symmetric; in 2D its out-of-plane entry is a placeholder
-    if (plane)
-      op_point[2 * i + 1] = Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(Ki.topLeftCorner<2, 2>(),
-                                                                          Eigen::EigenvaluesOnly)
-                                .eigenvalues()
-                                .cwiseAbs()
-                                .maxCoeff();
-    else {
-      Eigen::SelfAdjointEigenSolver<Mat3> es;
-      es.computeDirect(Ki, Eigen::EigenvaluesOnly);
-      op_point[2 * i + 1] = es.eigenvalues().cwiseAbs().maxCoeff();
-    }
+    op_point[2 * i + 1] = spectral_norm(Ki, plane);
   }
   comm_mode = 1;
   comm->forward_comm(this);
@@ -1291,7 +1298,7 @@ void FixNospdBonds::bound_stable_timesteps(std::vector<double> &dtmin)
     }
   };
   for (int i = 0; i < nlocal; i++) {
-    if (!owned(i)) continue;
+    if (!bounded(i)) continue;
     const double Di = op_point[2 * i];
     double r = cn[type[i]] * mlen[i] * Di;
     for (int b = bond_first[i]; b < bond_first[i + 1]; b++) {
