@@ -1159,11 +1159,13 @@ void FixNospdBonds::order_for_pairs()
    - velocity Verlet's for the bond-based body with the same P-wave modulus
      (Silling and Askari 2005, Comput. Struct. 83:1526, eq. 31):
      dt_i = sqrt(2 rho_i / sum_j V_j c / |xi_ij|);
-   - twice the bound on the correspondence stiffness below, which sees
-     K^-1.  The bound is sufficient (it bounds the linearized operator's
-     largest eigenvalue from above); in every body measured the runs stayed
-     stable to 2.4-4 times it, and twice it lies at or just below the
-     bond-based estimate where families are whole (doc: "Stable time step").
+   - a multiple (model.bound_margin) of the bound on the correspondence
+     stiffness below, which sees K^-1.  The bound is sufficient (it bounds
+     the linearized operator's largest eigenvalue from above); in every body
+     measured the classical style's runs stayed stable to 2.4-4 times it,
+     and twice it lies at or just below the bond-based estimate where
+     families are whole; the bond-associated style's to 1.5-3.2 times it,
+     hence 1.25 there (doc: "Stable time step").
    Both are the smallest over the points of each type.  Logged when they
    change; a warning when the time step exceeds the estimate.
 ------------------------------------------------------------------------- */
@@ -1195,7 +1197,8 @@ void FixNospdBonds::report_stable_timestep()
   MPI_Allreduce(dtbound.data(), dt_bound.data(), ntypes + 1, MPI_DOUBLE, MPI_MIN, world);
   std::vector<double> dtall(ntypes + 1);
   for (int t = 0; t <= ntypes; t++)
-    dtall[t] = dt_bound[t] < BIG ? std::min(dt_bond[t], 2.0 * dt_bound[t]) : dt_bond[t];
+    dtall[t] = dt_bound[t] < BIG ? std::min(dt_bond[t], model.bound_margin * dt_bound[t])
+                                 : dt_bond[t];
   const bool changed = (dt_reported != dtall);
   if (!changed && update->dt == dt_checked) return;
   dt_reported = dtall;
@@ -1233,6 +1236,9 @@ void FixNospdBonds::report_stable_timestep()
    Unlike the bond-based estimate it sees K^-1, so families cut short or
    flattened (nearly singular K) count as stiff as they are.  The quadratic
    fit's spring is bounded as Silling's (its H is the linear fit's here).
+   The bond-associated style bounds its own force (model.family_rows:
+   NOSPD::family_row_bounds of each pattern); its stabilization's springs
+   are the classical ones, on the family's H.
 ------------------------------------------------------------------------- */
 
 namespace {
@@ -1297,18 +1303,22 @@ void FixNospdBonds::bound_stable_timesteps(std::vector<double> &dtmin)
       default: return 0.0;
     }
   };
+  // the bond-associated style bounds its own force (its families' rows)
+  std::vector<double> own_rows;
+  const bool classical = !model.family_rows;
+  if (!classical) model.family_rows(own_rows);
   for (int i = 0; i < nlocal; i++) {
     if (!bounded(i)) continue;
     const double Di = op_point[2 * i];
-    double r = cn[type[i]] * mlen[i] * Di;
+    double r = classical ? cn[type[i]] * mlen[i] * Di : own_rows[i];
     for (int b = bond_first[i]; b < bond_first[i + 1]; b++) {
       const int j = bond_j[b];
       const double dx = x0s[j][0] - x0s[i][0], dy = x0s[j][1] - x0s[i][1],
                    dz = x0s[j][2] - x0s[i][2];
       const double len = sqrt(dx * dx + dy * dy + dz * dz);
       const double Dj = op_point[2 * j], kj = op_point[2 * j + 1];
-      r += bond_w[b] * (cn[type[j]] * kj * len * Dj + spring(i, len) * (2.0 + len * Di) +
-                        spring(j, len) * (2.0 + len * Dj));
+      r += bond_w[b] * ((classical ? cn[type[j]] * kj * len * Dj : 0.0) +
+                        spring(i, len) * (2.0 + len * Di) + spring(j, len) * (2.0 + len * Dj));
     }
     if (r > 0.0) dtmin[type[i]] = std::min(dtmin[type[i]], 2.0 * sqrt(rho[i] / r));
   }

@@ -16,6 +16,7 @@ FixStyle(PERI_NEIGH/NOSPD,FixNospdBonds);
 
 #include "nospd_bond_sums.h"
 
+#include <functional>
 #include <vector>
 
 namespace LAMMPS_NS {
@@ -48,6 +49,15 @@ struct NospdBondModel {
   // |S| <= |C| |K^-1|, spring unused)
   enum Spring { NONE, PER_WEIGHT, PER_LENGTH, WAN };
   int spring_kind = NONE;
+  // the bond-associated style's own rows in place of the classical force's:
+  // fills R_i for every owned atom (sum over points of the norms of its
+  // force density's change per unit displacement, linearized at the
+  // reference; springs left out).  Empty for the classical style.
+  std::function<void(std::vector<double> &)> family_rows;
+  // the estimate takes this multiple of the bound where it is below the
+  // bond-based value: the bound's measured slack, style by style (doc
+  // fix_peri_neigh_nospd, "Stable time step")
+  double bound_margin = 2.0;
   // keep each family's quadratic fit operator (kinv2): stabilization/fit quadratic
   bool quadratic = false;
 };
@@ -116,7 +126,7 @@ class FixNospdBonds : public FixPeriNeigh {
   }
   // its parts: the bond-based body's, and the bound on the correspondence
   // stiffness (0: none; the estimate takes the smaller of the first and
-  // twice the second)
+  // bound_margin times the second)
   double bond_based_timestep(int type) const { return part_of(dt_bond, type); }
   double stiffness_bound_timestep(int type) const { return part_of(dt_bound, type); }
   const NospdBondModel &get_model() const { return model; }

@@ -39,6 +39,7 @@
 #include "nospd_simd.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <numeric>
@@ -944,6 +945,89 @@ bool bond_defgrad(const BondPattern &p, int j, const double *U, Mat3 &F)
   block_mul<DIM>(nsum, own ? &p.kinv[NC * j] : p.kinv_full, h);
   F = identity_plus<DIM>(h);
   return own;
+}
+
+/* Bounds on how fast a family's forces change with the displacements,
+   linearized at the reference, for the stable time step (the bonds fix's
+   stiffness bound).  With H_j = sum_{l in h_j} U_l (x) a_jl, a_jl = w_l
+   K_j^-1 b_l, and U_l = u_l - u_i, H_j changes by at most
+       D_j = sum_{l in h_j} |a_jl| + |m_j|,   m_j = sum_{l in h_j} a_jl,
+   per unit displacement of every point of {i} and h_j (the whole family
+   with K^-1 where K_j is singular: a_sl, m_s, D_s).  P changes by at most
+   |C| as much.  The family's force on member k, w_k t_k, is
+       Form II: sum_{j : k in h_j} c_j P_j a_jk + cs P_s a_sk,
+       Form I:  c_k P_k a_kk  (c_k P_s a_sk where K_k is singular),
+   (cs: the c_j of the singular bonds) and on the centre i the sum of
+   those, which in Form II is sum_j c_j P_j m_j + cs P_s m_s.  rows[k]
+   (k < n) bounds the sum over all points q of |d (w_k t_k) / d u_q| / |C|,
+   rows[n] the same for the centre's force.  The pattern's reference data
+   alone: one pass over the members, as one evaluation of the family. */
+template <int DIM>
+void family_row_bounds(const BondPattern &p, HSForm form, std::vector<double> &rows)
+{
+  constexpr int NC = DIM * DIM;
+  const int n = p.n;
+  rows.assign(n + 1, 0.0);
+  // |K^-1 b_k| w_k: one slot's a for the inverse Ki
+  auto a_of = [&](const double *Ki, int k, double *a) {
+    for (int r = 0; r < 3; ++r) a[r] = 0.0;
+    for (int r = 0; r < DIM; ++r)
+      for (int c = 0; c < DIM; ++c) a[r] += p.w[k] * Ki[r * DIM + c] * p.b[3 * k + c];
+  };
+  auto norm = [](const double *a) { return std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]); };
+  // a slot list's D, and |m|
+  auto spread = [&](const double *Ki, const std::vector<int> &members, double &D, double &mlen) {
+    double m[3] = {0.0, 0.0, 0.0}, a[3];
+    D = 0.0;
+    for (int l : members) {
+      a_of(Ki, l, a);
+      D += norm(a);
+      for (int r = 0; r < 3; ++r) m[r] += a[r];
+    }
+    mlen = norm(m);
+    D += mlen;
+  };
+  if (p.atom_singular || n == 0) return;
+  const std::vector<std::vector<int>> sets = member_sets(p);
+  std::vector<int> all(n);
+  std::iota(all.begin(), all.end(), 0);
+  double Ds, ms, cs = 0.0, a[3];
+  spread(p.kinv_full, all, Ds, ms);
+  for (int j = 0; j < n; ++j)
+    if (p.singular[j]) cs += p.cforce[j];
+  for (int j = 0; j < n; ++j) {
+    if (p.singular[j]) {
+      if (form == HSForm::I) {
+        a_of(p.kinv_full, j, a);
+        rows[j] = p.cforce[j] * norm(a) * Ds;
+      }
+      continue;
+    }
+    const double *Kj = &p.kinv[NC * j];
+    double D, mlen;
+    spread(Kj, sets[j], D, mlen);
+    if (form == HSForm::I) {
+      a_of(Kj, j, a);
+      rows[j] = p.cforce[j] * norm(a) * D;
+    } else {
+      for (int l : sets[j]) {
+        a_of(Kj, l, a);
+        rows[l] += p.cforce[j] * norm(a) * D;
+      }
+      rows[n] += p.cforce[j] * mlen * D;
+    }
+  }
+  if (form == HSForm::I) {
+    for (int k = 0; k < n; ++k) rows[n] += rows[k];
+    return;
+  }
+  if (cs > 0.0) {
+    for (int k = 0; k < n; ++k) {
+      a_of(p.kinv_full, k, a);
+      rows[k] += cs * norm(a) * Ds;
+    }
+    rows[n] += cs * ms * Ds;
+  }
 }
 
 }    // namespace NOSPD

@@ -982,12 +982,11 @@ void PairPeriNospd::init_style()
    linearized C on tensors, its largest eigenvalue, 3 lambda + 2 mu (a
    dilatation; in 2D 2 lambda + 2 mu with plane stress's lambda), and the
    stabilization's bond stiffness.  The bound is the classical force's; the
-   bond-associated style's deformation gradients are not bounded by it.
+   bond-associated style gives its own (family_row_bound).
 ------------------------------------------------------------------------- */
 
 void PairPeriNospd::set_stiffness_bound(NospdBondModel &m)
 {
-  if (family_kind() != 1) return;
   const int ntypes = atom->ntypes;
   stress_norm.assign(ntypes + 1, 0.0);
   for (int i = 1; i <= ntypes; i++) {
@@ -1005,6 +1004,8 @@ void PairPeriNospd::set_stiffness_bound(NospdBondModel &m)
     case Stab::WAN: m.spring_kind = NospdBondModel::WAN; break;
     default: m.spring_kind = NospdBondModel::NONE;
   }
+  m.family_rows = family_row_bound();
+  m.bound_margin = bound_margin();
 }
 
 /* ----------------------------------------------------------------------

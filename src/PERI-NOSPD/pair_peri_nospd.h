@@ -225,6 +225,11 @@ class PairPeriNospd : public Pair {
   void warn_barostats(const std::string &cmd);
   void raise_hybrid_comm_forward();
   void set_stiffness_bound(NospdBondModel &m);
+  // the bond-associated style bounds its own force for the stable time step
+  // (NospdBondModel::family_rows); none here: the bonds fix bounds pass 2's
+  virtual std::function<void(std::vector<double> &)> family_row_bound() { return {}; }
+  // the multiple of that bound the estimate takes (its measured slack)
+  virtual double bound_margin() const { return 2.0; }
   void check_one_plane(double spacing);
   void fill_base_temperature();
   void inelastic_failure(int i, NOSPD::ReturnStatus st, const NOSPD::Mat3 &F) const;

@@ -312,14 +312,7 @@ void PairPeriNospdHS::compute(int eflag, int vflag)
   // when a per-atom virial is wanted
   const int nall = atom->nlocal + atom->nghost;
   reverse_virial = vflag_atom ? 1 : 0;
-  if (atom->nmax > nmax_ghost) {
-    nmax_ghost = atom->nmax;
-    memory->destroy(fghost);
-    memory->destroy(vghost);
-    memory->create(fghost, nmax_ghost, 3, "pair:fghost");
-  }
-  if (reverse_virial && !vghost) memory->create(vghost, nmax_ghost, 6, "pair:vghost");
-  if (nall) memset(&fghost[0][0], 0, sizeof(double) * 3 * nall);
+  grow_ghost_buffers();
   if (nall && reverse_virial) memset(&vghost[0][0], 0, sizeof(double) * 6 * nall);
 
   // the stabilization first: it needs the families' F, which the
@@ -352,6 +345,63 @@ void PairPeriNospdHS::compute(int eflag, int vflag)
   if (reverse_virial)
     for (int i = 0; i < nlocal; i++)
       for (int k = 0; k < 6; k++) vatom[i][k] += vghost[i][k];
+}
+
+/* fghost (and vghost where wanted) for every owned and ghost atom, zeroed */
+
+void PairPeriNospdHS::grow_ghost_buffers()
+{
+  if (atom->nmax > nmax_ghost) {
+    nmax_ghost = atom->nmax;
+    memory->destroy(fghost);
+    memory->destroy(vghost);
+    memory->create(fghost, nmax_ghost, 3, "pair:fghost");
+  }
+  if (reverse_virial && !vghost) memory->create(vghost, nmax_ghost, 6, "pair:vghost");
+  const int nall = atom->nlocal + atom->nghost;
+  if (nall) memset(&fghost[0][0], 0, sizeof(double) * 3 * nall);
+}
+
+/* ----------------------------------------------------------------------
+   The rows of the stable time step's stiffness bound (the bonds fix's
+   bound_stable_timesteps, which adds the stabilization's springs): each
+   family adds |C| rows[n] of its pattern (NOSPD::family_row_bounds) to its
+   centre and (V_i / V_k) |C| rows[k] to member k, ghosts included; the
+   ghosts' shares go home as the forces do.  Linearized at the reference:
+   the families of the current mapping, elastic.
+------------------------------------------------------------------------- */
+
+void PairPeriNospdHS::bound_family_rows(std::vector<double> &rows)
+{
+  if (mapped_version != fix_bonds->bond_version || (int) state_pattern.size() != atom->nlocal)
+    map_families();
+  reverse_virial = 0;
+  grow_ghost_buffers();
+  const int nlocal = atom->nlocal;
+  const int *type = atom->type;
+  const double *vfrac = atom->vfrac;
+  std::vector<std::vector<double>> pattern_rows(patterns.size());
+  for (int i = 0; i < nlocal; i++) {
+    const int pat = state_pattern[i];
+    const double cn = stress_norm[type[i]];
+    if (pat < 0 || !(cn > 0.0)) continue;
+    const BondPattern &p = patterns[pat];
+    std::vector<double> &r = pattern_rows[pat];
+    if (r.empty()) {
+      if (domain->dimension == 2) NOSPD::family_row_bounds<2>(p, hs_form, r);
+      else NOSPD::family_row_bounds<3>(p, hs_form, r);
+    }
+    fghost[i][0] += cn * r[p.n];
+    const int *bj = fix_bonds->bond_j + fix_bonds->bond_first[i];
+    const uint16_t *perm = &state_perm[state_first[i]];
+    for (int s = 0; s < p.n; s++) {
+      const int j = bj[perm[s]];
+      fghost[j][0] += cn * r[s] * vfrac[i] / vfrac[j];
+    }
+  }
+  comm->reverse_comm(this);
+  rows.resize(nlocal);
+  for (int i = 0; i < nlocal; i++) rows[i] = fghost[i][0];
 }
 
 /* ----------------------------------------------------------------------

@@ -623,6 +623,7 @@ struct StiffnessCase {
   double mfactor;      // horizon / spacing
   double layer_gap;    // > 0: two layers this fraction of the spacing apart
   const char *settings;
+  const char *style = "peri/nospd";
 };
 
 class StabilityBound : public ::testing::TestWithParam<StiffnessCase> {
@@ -650,7 +651,7 @@ class StabilityBound : public ::testing::TestWithParam<StiffnessCase> {
     cmd(lmp, "set group all density 7850");
     cmd(lmp, "set group all volume 1e-9");
     cmd(lmp, "comm_modify cutoff " + num(2.2 * c.mfactor * dx));
-    cmd(lmp, std::string("pair_style peri/nospd ") + c.settings);
+    cmd(lmp, std::string("pair_style ") + c.style + " " + c.settings);
     cmd(lmp, "pair_coeff * * 200e9 0.3 " + num(c.mfactor * dx));
     cmd(lmp, "timestep 1e-12");
     cmd(lmp, "run 0");
@@ -713,7 +714,16 @@ INSTANTIATE_TEST_SUITE_P(
                       StiffnessCase{"plate_two_thick_wan", 10, 2, 3.01, 0.0, "stabilization wan"},
                       StiffnessCase{"horizon_20", 6, 6, 20.0, 0.0, ""},
                       StiffnessCase{"plate_two_thick", 10, 2, 3.01, 0.0, ""},
-                      StiffnessCase{"two_layers", 8, 1, 3.01, 0.03, ""}),
+                      StiffnessCase{"two_layers", 8, 1, 3.01, 0.03, ""},
+                      // the bond-associated style's own bound (family_row_bounds)
+                      StiffnessCase{"hs_block", 7, 7, 3.01, 0.0, "", "peri/nospd/hs"},
+                      StiffnessCase{"hs_form_I_block", 7, 7, 3.01, 0.0, "form I", "peri/nospd/hs"},
+                      StiffnessCase{"hs_plate_two_thick", 10, 2, 3.01, 0.0, "", "peri/nospd/hs"},
+                      StiffnessCase{"hs_plate_two_thick_silling", 10, 2, 3.01, 0.0,
+                                    "stabilization silling 0.5", "peri/nospd/hs"},
+                      StiffnessCase{"hs_plate_two_thick_hourglass", 10, 2, 3.01, 0.0,
+                                    "stabilization hourglass 0.2", "peri/nospd/hs"},
+                      StiffnessCase{"hs_two_layers", 8, 1, 3.01, 0.03, "", "peri/nospd/hs"}),
     [](const ::testing::TestParamInfo<StiffnessCase> &i) { return std::string(i.param.name); });
 
 // The 20-spacing body, whose bond-based estimate is 14 times its limit,
