@@ -252,7 +252,8 @@ void FixNospdBonds::setup_post_neighbor()
 
 void FixNospdBonds::check_plane_volumes()
 {
-  if (model.dim != 2 || plane_volumes_warned) return;
+  if (plane_volumes_warned) return;
+  if (model.dim == 3) return check_solid_volumes();
   const int *type = atom->type;
   const double *vfrac = atom->vfrac;
   double fullest = 0.0, all = 0.0;
@@ -276,6 +277,43 @@ void FixNospdBonds::check_plane_volumes()
                    "thickness with pair_style keyword thickness", style, model.thickness,
                    model.thickness == 1.0 ? " (the default: no thickness keyword)" : "", all,
                    all * model.thickness);
+}
+
+/* ----------------------------------------------------------------------
+   In 3D a volume far below the spacing cubed (a unit slip: mm^3 given for
+   a spacing in m) weakens the stabilization, the stable time step estimate
+   and G0 as silently as a wrong thickness does in 2D: warn where even the
+   largest V_i / d_i^3 (d_i: the nearest partner's distance, about the
+   spacing) is below 0.1.  On a grid it is 1; volumes from a Voronoi
+   tessellation stay within a few times of it.
+------------------------------------------------------------------------- */
+
+void FixNospdBonds::check_solid_volumes()
+{
+  const int *type = atom->type;
+  const double *vfrac = atom->vfrac;
+  double largest = 0.0, all = 0.0;
+  for (int i = 0; i < atom->nlocal; i++) {
+    if (model.active && !model.active[type[i]]) continue;
+    double d2 = 0.0;
+    for (int b = bond_first[i]; b < bond_first[i + 1]; b++) {
+      const int j = bond_j[b];
+      const double dx = x0s[j][0] - x0s[i][0], dy = x0s[j][1] - x0s[i][1],
+                   dz = x0s[j][2] - x0s[i][2];
+      const double r2 = dx * dx + dy * dy + dz * dz;
+      if (r2 > 0.0 && (d2 == 0.0 || r2 < d2)) d2 = r2;
+    }
+    if (d2 > 0.0) largest = std::max(largest, vfrac[i] / (d2 * sqrt(d2)));
+  }
+  MPI_Allreduce(&largest, &all, 1, MPI_DOUBLE, MPI_MAX, world);
+  if (all == 0.0 || all >= 0.1) return;
+  plane_volumes_warned = true;
+  if (comm->me == 0)
+    error->warning(FLERR, "Fix {}: the point volumes (vfrac) are at most {:.3g} times the cube "
+                   "of the distance to the nearest partner: a point's volume is about its "
+                   "spacing cubed (a unit slip?).  The stabilization, the stable time step "
+                   "estimate and G0 scale with the volumes: set them with 'set ... volume'",
+                   style, all);
 }
 
 /* ----------------------------------------------------------------------

@@ -294,7 +294,8 @@ class FixNospdBonds : public FixPeriNeigh {
   int comm_mode = 0;
   std::vector<double> op_point;    // per owned + ghost atom: D_i, |K_i^-1|
   void check_plane_volumes();
-  bool plane_volumes_warned = false;
+  void check_solid_volumes();
+  bool plane_volumes_warned = false;    // 2D thickness or 3D volumes: warned once
   void check_min_dmax();
   double dmax_warned = -1.0;          // the min_modify dmax last warned about
   std::vector<double> dt_reported;    // per type, the estimate last logged

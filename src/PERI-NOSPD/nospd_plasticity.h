@@ -185,7 +185,9 @@ struct PointEnv {
   double factor = 1.0;
 };
 
-enum class ReturnStatus { OK, NO_CONVERGENCE, BAD_DEFORMATION };
+// BAD_TEMPERATURE: the thermal stretch 1 + alpha (T - T_ref) is not
+// positive (Hencky) or the thermal strain not below 1 (small strain)
+enum class ReturnStatus { OK, NO_CONVERGENCE, BAD_DEFORMATION, BAD_TEMPERATURE };
 
 namespace detail {
 
@@ -308,6 +310,9 @@ inline ReturnStatus point_core(Law law, const Lame &m, const FlowLaw &fl, const 
   for (int k = 0; k < Hist::SIZE; ++k) h1[k] = hn[k];
   const double T = env.T_base + hn[Hist::HEAT];
   const double eth = th.alpha * (T - th.T_ref);
+  // (the log of a non-positive stretch; a "small" strain of 100 % or more)
+  if (!(std::abs(eth) < 1.0) && (law == Law::SMALL || !(eth > -1.0) || !std::isfinite(eth)))
+    return ReturnStatus::BAD_TEMPERATURE;
 
   if (law == Law::SMALL) {
     const Mat3 eps = 0.5 * (F + F.transpose()) - I;

@@ -1445,6 +1445,18 @@ double PairPeriNospd::temperature(int i) const
 
 void PairPeriNospd::inelastic_failure(int i, NOSPD::ReturnStatus st, const Mat3 &F) const
 {
+  if (st == NOSPD::ReturnStatus::BAD_TEMPERATURE) {
+    const NOSPD::ThermalLaw &th = thermal[atom->type[i]];
+    const double T = temperature(i), eth = th.alpha * (T - th.T_ref);
+    error->one(FLERR, "pair_style {}: atom {} on step {} has temperature {:.6g}, where the "
+               "thermal {} of type {} (thermal {:.6g} {:.6g}) is {:.6g}: the law is undefined "
+               "there; check the temperature (its variable or property) and the thermal law",
+               force->pair_style, atom->tag[i], update->ntimestep, T,
+               strain_law == NOSPD::Law::SMALL ? "strain alpha (T - T_ref)"
+                                               : "stretch 1 + alpha (T - T_ref)",
+               atom->type[i], th.alpha, th.T_ref,
+               strain_law == NOSPD::Law::SMALL ? eth : 1.0 + eth);
+  }
   if (st == NOSPD::ReturnStatus::BAD_DEFORMATION)
     error->one(FLERR, "pair_style {}: atom {} on step {} has det F = {:.6g}: the finite-strain "
                "law is undefined for an inverted or collapsed family{}",

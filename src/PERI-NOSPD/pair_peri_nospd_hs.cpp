@@ -216,10 +216,11 @@ void PairPeriNospdHS::settings(int narg, char **arg)
   PairPeriNospd::settings((int) rest.size(), rest.data());
   stab_on = stabilized;
   if (!stab_on) stab = NOSPD::Stab::NONE;
-  // new settings may change every pattern
+  // new settings may change every pattern (and with them the stencils)
   patterns.clear();
   pattern_lookup.clear();
   mapped_version = -1;
+  stencil_law.clear();
 }
 
 /* ---------------------------------------------------------------------- */
@@ -241,16 +242,38 @@ void PairPeriNospdHS::init_style()
   if (!stab_on) comm_forward = 0;
   comm_forward = MAX(comm_forward, 1);
   raise_hybrid_comm_forward();
-  // the law may have changed: stencils anew
-  pattern_stencils.clear();
-  point_stencils.clear();
-  first_point_mapping = true;
   mapped_version = -1;
   reported = false;
   linear_law.assign(atom->ntypes + 1, NOSPD::LinearLaw());
   for (int i = 1; i <= atom->ntypes; i++)
     linear_law[i] = NOSPD::probe_linear_law(strain_law, plane_mode, lame[i], domain->dimension);
+  // the stencils anew where the law they were built for changed (a
+  // pair_coeff, new settings); else kept, so that each run command does not
+  // build them again (seconds on a large grid)
+  const std::vector<double> law = stencil_law_signature();
+  if (law != stencil_law) {
+    pattern_stencils.clear();
+    point_stencils.clear();
+    first_point_mapping = true;
+    stencil_law = law;
+  }
   ghosts_for_stencil();
+}
+
+/* what the stencils of a pattern and type are a function of, besides the
+   pattern: the form, the strain law and plane, and each type's material */
+
+std::vector<double> PairPeriNospdHS::stencil_law_signature() const
+{
+  std::vector<double> sig = {(double) hs_form, hs_ratio, (double) strain_law,
+                             (double) plane_mode, (double) domain->dimension};
+  for (int i = 1; i <= atom->ntypes; i++) {
+    const NOSPD::Lame &m = lame[i];
+    const NOSPD::LinearLaw &l = linear_law[i];
+    sig.insert(sig.end(), {(double) active[i], m.lambda, m.mu, m.lambda_ps, (double) l.ok, l.lam,
+                           l.mu, cut[i][i]});
+  }
+  return sig;
 }
 
 /* ----------------------------------------------------------------------
@@ -911,6 +934,7 @@ const NOSPD::Stencil *PairPeriNospdHS::stencil_for(int pattern, int type)
         ? NOSPD::build_stencil<2>(p, hs_form, strain_law, plane_mode, lame[type], linear_law[type])
         : NOSPD::build_stencil<3>(p, hs_form, strain_law, plane_mode, lame[type], linear_law[type]);
     it = byType.emplace(type, std::move(st)).first;
+    nstencils_built++;
   }
   return it->second.ok ? &it->second : nullptr;
 }
@@ -1406,6 +1430,7 @@ void PairPeriNospdHS::build_point_stencils(
       const Operator &op = ops[own[q]];
       st = dim == 2 ? builders[q - q0].finish<2>(patterns[op.pattern], op.e, h)
                     : builders[q - q0].finish<3>(patterns[op.pattern], op.e, h);
+      nstencils_built++;
     }
   }
 }
@@ -1597,9 +1622,11 @@ void PairPeriNospdHS::report_patterns()
                    all[1] / nbonds, all[2] / nbonds, nsingular_bonds, nfallback_states, all[3],
                    all[4] / natoms, nstencil_all, atom->natoms, one_all[1], one_all[0]);
   if (fix_bonds->nbonds_broken == 0 && all[0] > 0.0 && nsingular_bonds > 0.5 * all[0])
-    error->all(FLERR, "pair_style {}: ratio {} is too small: {} of {:.0f} bond-associated "
-               "families are degenerate (fewer than {} non-coplanar members); use a larger ratio",
-               force->pair_style, hs_ratio, nsingular_bonds, all[0], domain->dimension);
+    error->all(FLERR, "pair_style {}: ratio {} is too small for singular_tol {:.4g}: {} of "
+               "{:.0f} bond-associated families are degenerate (fewer than {} non-coplanar "
+               "members, or shape tensors below singular_tol); use a larger ratio{}",
+               force->pair_style, hs_ratio, singular_tol, nsingular_bonds, all[0],
+               domain->dimension, singular_tol > 1.0e-4 ? " or a smaller singular_tol" : "");
 }
 
 /* ----------------------------------------------------------------------

@@ -63,6 +63,9 @@ class PairPeriNospdHS : public PairPeriNospd {
   int pattern_count() const { return (int) patterns.size(); }
   bigint stencil_points() const { return nstencil_all; }
   bool stencil_enabled() const { return stencil_on; }
+  // stencils built since the style was created (they are kept between runs
+  // while the law they were built for stays; for tests)
+  bigint stencils_built() const { return nstencils_built; }
 
  protected:
   // the patterns and stencils follow each family's partner order
@@ -166,6 +169,9 @@ class PairPeriNospdHS : public PairPeriNospd {
   std::vector<int> family_order;            // state_order less the families not needed
   std::vector<double> ustencil;             // displacements, 4 per cell
   bigint nstencil_all;
+  bigint nstencils_built = 0;
+  std::vector<double> stencil_law;          // what the kept stencils were built for
+  std::vector<double> stencil_law_signature() const;
   int comm_mode;                            // forward comm: 0 classical B, 1 key, 2 flag
   bool stencils_stale;                      // the families were remapped since
   void map_stencils();

@@ -815,6 +815,53 @@ INSTANTIATE_TEST_SUITE_P(BondAssociated, HSStencil,
                            return p.param.name();
                          });
 
+/* The stencils are kept from one run command to the next while the law
+   they were built for stays (building them takes seconds on a large
+   grid), and built anew when a pair_coeff changes it: each time the
+   stencil's forces are the families' to 1e-12. */
+TEST_F(HSDeck, StencilsKeptBetweenRunsUntilTheLawChanges)
+{
+  Block b;
+  b.n = 16;
+  b.style = "peri/nospd/hs";
+  make_block(lmp, b);
+  cmd(lmp, "displace_atoms all random 2e-6 2e-6 2e-6 8811 units box");
+  auto *p = static_cast<PairPeriNospdHS *>(lmp->force->pair);
+  const bigint natoms = lmp->atom->natoms;
+  // the families' forces (a step with energy) and the stencil's, by tag
+  using Forces = std::vector<std::array<double, 3>>;
+  auto forces = [&](int eflag) {
+    double **f = lmp->atom->f;
+    const int nall = lmp->atom->nlocal + lmp->atom->nghost;
+    for (int i = 0; i < nall; i++) f[i][0] = f[i][1] = f[i][2] = 0.0;
+    p->compute(eflag, 0);
+    return by_tag(lmp, f);
+  };
+  auto stencil_matches_families = [&]() {
+    const Forces fam = forces(1), sten = forces(0);
+    EXPECT_GT(p->stencil_points(), natoms / 2);
+    expect_same_vectors(sten, fam, 1e-12);
+    return fam;
+  };
+  cmd(lmp, "run 0");
+  const bigint built = p->stencils_built();
+  ASSERT_GT(built, 0);
+  const Forces first = stencil_matches_families();
+  cmd(lmp, "run 0");
+  EXPECT_EQ(p->stencils_built(), built);    // kept
+  const Forces again = stencil_matches_families();
+  expect_same_vectors(again, first, 0.0);
+  // twice the modulus: stencils anew, forces twice as large
+  cmd(lmp, "pair_coeff * * " + num(2.0 * b.E) + " " + num(b.nu) + " " + num(b.delta()));
+  cmd(lmp, "run 0");
+  EXPECT_GT(p->stencils_built(), built);
+  const Forces stiffer = stencil_matches_families();
+  Forces doubled(first);
+  for (auto &v : doubled)
+    for (double &c : v) c *= 2.0;
+  expect_same_vectors(stiffer, doubled, 1e-12);
+}
+
 /* The stencil only for the linear law, and not when switched off.  It
    reads 2 delta around a point: where it applies, the style raises a
    shorter ghost cutoff to 2 delta plus the skin (then every point of a
@@ -874,6 +921,13 @@ TEST_F(HSDeck, BadInput)
   cmd(lmp, "pair_style peri/nospd/hs ratio 0.2");
   cmd(lmp, "pair_coeff * * 200e9 0.3 0.00301");
   EXPECT_THAT(error_of(lmp, "run 0"), HasSubstr("is too small"));
+  // or a singular_tol that calls whole families degenerate: the message
+  // names it (hostile sweep N: it blamed the ratio alone)
+  cmd(lmp, "pair_style peri/nospd/hs singular_tol 0.9");
+  cmd(lmp, "pair_coeff * * 200e9 0.3 0.00301");
+  const std::string msg = error_of(lmp, "run 0");
+  EXPECT_THAT(msg, HasSubstr("ratio 1 is too small for singular_tol 0.9"));
+  EXPECT_THAT(msg, HasSubstr("or a smaller singular_tol"));
 }
 
 }    // namespace

@@ -115,6 +115,32 @@ TEST_P(Inelastic, ThermalFreeBlockIsForceFree)
   }
 }
 
+// A temperature where the thermal law is undefined (a stretch
+// 1 + alpha dT <= 0 under Hencky, a thermal strain of 100 % or more under
+// small strain) is an error that says so, not a return mapping that "did
+// not converge" (hostile sweep N); 1 + alpha dT = -0.2 and 6.
+TEST_P(Inelastic, ThermalStretchOutsideTheLawIsNamed)
+{
+  for (std::string law : {"small", "hencky"}) {
+    for (double dT : {-1e5, 5.0 / ALPHA}) {
+      delete lmp;
+      lmp = open_lammps();
+      block("strain " + law + " temperature v_T", "thermal 1.2e-5 293");
+      cmd(lmp, "variable T atom " + num(293.0 + dT));
+      const std::string msg = error_of(lmp, "run 0");
+      if (law == "hencky" && dT > 0.0) {
+        EXPECT_EQ(msg, "") << "a stretch of 6 is defined";
+        continue;
+      }
+      EXPECT_THAT(msg, HasSubstr(dT < 0.0 ? "has temperature -99707," : "has temperature 416960,"))
+          << law;
+      EXPECT_THAT(msg, HasSubstr(law == "small" ? "thermal strain alpha (T - T_ref) of type 1"
+                                                : "thermal stretch 1 + alpha (T - T_ref) of type 1"))
+          << law;
+    }
+  }
+}
+
 // A clamped heated body (periodic: no surface) carries
 // sigma = -E alpha dT / (1 - 2 nu) on the diagonal; the temperature comes
 // from a per-atom property set with the set command.

@@ -774,6 +774,24 @@ TEST_F(Robustness, TimestepAboveTheEstimateWarns)
   EXPECT_EQ(text.find("exceeds the stable"), text.rfind("exceeds the stable"));
 }
 
+// a 3D volume far below the spacing cubed (mm^3 for m, hostile sweep N)
+// weakens the stabilization silently: a warning names the slip; the right
+// volumes give none
+TEST_F(Robustness, VolumesFarBelowTheSpacingCubedWarn)
+{
+  Block blk;
+  blk.n = 7;
+  make_block(lmp, blk);
+  EXPECT_EQ(log_of(lmp, {"run 0"}).find("a unit slip"), std::string::npos);
+  delete lmp;
+  lmp = open_lammps();
+  make_block(lmp, blk);
+  cmd(lmp, "set group all volume " + num(1e-3 * blk.dx * blk.dx * blk.dx));
+  const auto text = log_of(lmp, {"run 0"});
+  EXPECT_THAT(text, HasSubstr("the point volumes (vfrac) are at most 0.001 times the cube"));
+  EXPECT_THAT(text, HasSubstr("a unit slip"));
+}
+
 // families take their candidates from a neighbor list of the current
 // positions: a body stretched by 25 % before the first run (more than the
 // skin, dx/2, across a bond of 3 dx) loses the bonds that now reach beyond
