@@ -231,7 +231,7 @@ void FixNospdBonds::setup_post_neighbor()
   update_shape_tensors();
   count_bonds();
   if (built_now) report_families();
-  check_plane_volumes();
+  check_volumes();
   if (update->whichflag == 1) report_stable_timestep();
   if (update->whichflag == 2) check_min_dmax();
 }
@@ -247,12 +247,12 @@ void FixNospdBonds::setup_post_neighbor()
    below 2 for any horizon past the spacing on a square or hexagonal grid
    and for irregular points with their own volumes; a body's edges and
    damage only empty families.  So the fullest family is held to within a
-   factor 5 of its disk; one warning.
+   factor 5 of its disk; one warning.  (3D: check_solid_volumes.)
 ------------------------------------------------------------------------- */
 
-void FixNospdBonds::check_plane_volumes()
+void FixNospdBonds::check_volumes()
 {
-  if (plane_volumes_warned) return;
+  if (volumes_warned) return;
   if (model.dim == 3) return check_solid_volumes();
   const int *type = atom->type;
   const double *vfrac = atom->vfrac;
@@ -267,7 +267,7 @@ void FixNospdBonds::check_plane_volumes()
   }
   MPI_Allreduce(&fullest, &all, 1, MPI_DOUBLE, MPI_MAX, world);
   if (all == 0.0 || (all > 0.2 && all < 5.0)) return;
-  plane_volumes_warned = true;
+  volumes_warned = true;
   if (comm->me == 0)
     error->warning(FLERR, "Fix {}: in 2D a point's volume (vfrac) is its area times the "
                    "thickness, here {:.6g}{}, but the fullest family holds {:.3g} times the "
@@ -307,7 +307,7 @@ void FixNospdBonds::check_solid_volumes()
   }
   MPI_Allreduce(&largest, &all, 1, MPI_DOUBLE, MPI_MAX, world);
   if (all == 0.0 || all >= 0.1) return;
-  plane_volumes_warned = true;
+  volumes_warned = true;
   if (comm->me == 0)
     error->warning(FLERR, "Fix {}: the point volumes (vfrac) are at most {:.3g} times the cube "
                    "of the distance to the nearest partner: a point's volume is about its "

@@ -293,9 +293,9 @@ class FixNospdBonds : public FixPeriNeigh {
   // forward communication: FixPeriNeigh's (0) or the operator bound's (1)
   int comm_mode = 0;
   std::vector<double> op_point;    // per owned + ghost atom: D_i, |K_i^-1|
-  void check_plane_volumes();
+  void check_volumes();
   void check_solid_volumes();
-  bool plane_volumes_warned = false;    // 2D thickness or 3D volumes: warned once
+  bool volumes_warned = false;    // 2D thickness or 3D volumes: warned once
   void check_min_dmax();
   double dmax_warned = -1.0;          // the min_modify dmax last warned about
   std::vector<double> dt_reported;    // per type, the estimate last logged
