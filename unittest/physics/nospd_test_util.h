@@ -28,6 +28,8 @@
 #include <string>
 #include <vector>
 
+#include <unistd.h>
+
 namespace nospdtest {
 
 using LAMMPS_NS::LAMMPS;
@@ -109,7 +111,11 @@ inline void make_block(LAMMPS *lmp, const Block &b)
 // folder (removed after).
 inline std::string log_of(LAMMPS *lmp, const std::vector<std::string> &lines)
 {
-  const std::string log = "nospd_test_log_of.log";
+  // one file per process and call: ctest -j runs several test binaries in
+  // the same folder at once, and a shared name let one remove another's log
+  static int calls = 0;
+  const std::string log =
+      "nospd_test_log_of." + std::to_string(getpid()) + "." + std::to_string(calls++) + ".log";
   cmd(lmp, "log " + log);
   for (const auto &line : lines) cmd(lmp, line);
   cmd(lmp, "log none");
