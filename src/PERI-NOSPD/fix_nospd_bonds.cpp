@@ -1751,6 +1751,12 @@ void FixNospdBonds::update_shape_tensors()
         K(2, 2) = 1.0;
       }
       NOSPD::Mat3 Ki;
+      // damage is irreversible: a family found singular after losing bonds
+      // stays singular (conditioning_tolerance).  Losing more bonds can raise
+      // its measure (tr K falls faster than det K), and the F of the few
+      // bonds left, far from their reference shape by then, would bring back
+      // a stored energy that no work put in (sweep N's impact: 4e9 per atom
+      // in one step).
       singular[i] = NOSPD::safe_inverse(K, dim, conditioning_tolerance(i), Ki) ? 0 : 1;
       NOSPD::store(Ki, kinv[i]);
       if (kinv2) quadratic_fit_of(i);
@@ -2237,7 +2243,8 @@ int FixNospdBonds::unpack_exchange(int nlocal, double *buf)
 }
 
 /* ----------------------------------------------------------------------
-   restart: the families (intact partners only) and the partner volume sum;
+   restart: the families (intact partners only), the partner volume sum and
+   the singular flag (kept for a family that lost bonds);
    K^-1 and the bond arrays are rebuilt from them at setup
 ------------------------------------------------------------------------- */
 
@@ -2260,6 +2267,7 @@ int FixNospdBonds::pack_restart(int i, double *buf)
   m += pack_history(i, buf + m);
   buf[m++] = ubuf(own_tag[i]).d;
   buf[m++] = family_type[i];
+  buf[m++] = singular[i] == 1;    // a damaged family's stays (update_shape_tensors)
   buf[0] = m;    // first value: size of this fix's record, as Atom expects
   return m;
 }
@@ -2292,13 +2300,15 @@ void FixNospdBonds::unpack_restart(int nlocal, int nth)
   own_tag[nlocal] = (m < end) ? (tagint) ubuf(extra[nlocal][m++]).i : 0;
   // and before the type of the families was kept: unknown (not checked)
   family_type[nlocal] = (m < end) ? static_cast<int>(extra[nlocal][m++]) : 0;
+  // and before a damaged family's singularity was kept: found anew
+  if (m < end) singular[nlocal] = static_cast<int>(extra[nlocal][m++]);
 }
 
 /* ---------------------------------------------------------------------- */
 
 int FixNospdBonds::maxsize_restart()
 {
-  return maxpartner + 8 + nhistory;
+  return maxpartner + 9 + nhistory;
 }
 
 /* ---------------------------------------------------------------------- */
@@ -2308,5 +2318,5 @@ int FixNospdBonds::size_restart(int nlocal)
   int n = 0;
   for (int k = 0; k < npartner[nlocal]; k++)
     if (partner[nlocal][k]) n++;
-  return n + 7 + (nhist_bond ? 1 : 0) + nhist_atom + n * nhist_bond;
+  return n + 8 + (nhist_bond ? 1 : 0) + nhist_atom + n * nhist_bond;
 }

@@ -17,6 +17,7 @@ FixStyle(PERI_NEIGH/NOSPD,FixNospdBonds);
 #include "nospd_bond_sums.h"
 
 #include <functional>
+#include <limits>
 #include <vector>
 
 namespace LAMMPS_NS {
@@ -228,12 +229,14 @@ class FixNospdBonds : public FixPeriNeigh {
 
   // the conditioning atom i's family must keep to be regular: the damaged
   // tolerance once it has lost bonds (fewer intact than at its first build;
-  // bond arrays current)
+  // bond arrays current), and none once it was found singular after that:
+  // damage is irreversible (see update_shape_tensors)
   double conditioning_tolerance(int i) const
   {
-    return bond_first[i + 1] - bond_first[i] < family_size[i] ? model.damaged_tol
-                                                              : model.singular_tol;
+    if (!lost_bonds(i)) return model.singular_tol;
+    return singular[i] == 1 ? std::numeric_limits<double>::infinity() : model.damaged_tol;
   }
+  bool lost_bonds(int i) const { return bond_first[i + 1] - bond_first[i] < family_size[i]; }
 
   using FixPeriNeigh::npartner;
   using FixPeriNeigh::partner;
