@@ -1711,6 +1711,33 @@ void FixNospdBonds::quadratic_fit_of(int i)
   NOSPD::quadratic_fit_inverse(K2, kinv2[i]);
 }
 
+/* ----------------------------------------------------------------------
+   the largest leverage w_b xi_b^T K^-1 xi_b over atom i's intact bonds (bond
+   arrays current).  F is the least-squares fit sum w Y (x) xi K^-1 of the
+   bond vectors; a bond's leverage (0..1, summing to the dimension over the
+   family) is how much of that bond's own motion the fit follows.  Near 1
+   the fit hinges on it: breaking it moves F by its residual times
+   1/(1 - leverage), and the stored energy can jump up (sweep N's impact: a
+   point with 11 bonds left, conditioning 0.39, lost one of leverage 0.51
+   and its energy tripled).  An intact sc family (horizon 3 spacings) has at
+   most 0.04, a half-space 0.08, a corner 0.25.
+------------------------------------------------------------------------- */
+
+double FixNospdBonds::max_bond_leverage(int i, const NOSPD::Mat3 &Kinv) const
+{
+  const bool plane = model.dim == 2;
+  double most = 0.0;
+  for (int b = bond_first[i]; b < bond_first[i + 1]; b++) {
+    const int j = bond_j[b];
+    const NOSPD::Vec3 xi(x0s[j][0] - x0s[i][0], x0s[j][1] - x0s[i][1],
+                         plane ? 0.0 : x0s[j][2] - x0s[i][2]);
+    most = std::max(most, bond_w[b] * xi.dot(Kinv * xi));
+  }
+  return most;
+}
+
+/* ---------------------------------------------------------------------- */
+
 void FixNospdBonds::update_shape_tensors()
 {
   const int nlocal = atom->nlocal;
@@ -1758,6 +1785,9 @@ void FixNospdBonds::update_shape_tensors()
       // a stored energy that no work put in (sweep N's impact: 4e9 per atom
       // in one step).
       singular[i] = NOSPD::safe_inverse(K, dim, conditioning_tolerance(i), Ki) ? 0 : 1;
+      if (!singular[i] && lost_bonds(i) && model.damaged_leverage < 1.0 &&
+          max_bond_leverage(i, Ki) > model.damaged_leverage)
+        singular[i] = 1;
       NOSPD::store(Ki, kinv[i]);
       if (kinv2) quadratic_fit_of(i);
       stale[i] = 0;

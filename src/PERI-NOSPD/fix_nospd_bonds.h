@@ -31,6 +31,9 @@ struct NospdBondModel {
   int dim = 3;
   double singular_tol = 1.0e-4;    // det K / (tr K/dim)^dim below this: singular
   double damaged_tol = 0.1;        // the same for a family that lost bonds
+  // a family that lost bonds is singular when one bond's leverage
+  // w xi^T K^-1 xi exceeds this (1: never)
+  double damaged_leverage = 0.5;
   const int *active = nullptr;     // [ntypes+1]: 1 for the types the pair style owns
   double thickness = 1.0;          // 2D: the volumes are area x thickness
   // points closer than this fraction of their spacing (from the volume) are
@@ -237,6 +240,7 @@ class FixNospdBonds : public FixPeriNeigh {
     return singular[i] == 1 ? std::numeric_limits<double>::infinity() : model.damaged_tol;
   }
   bool lost_bonds(int i) const { return bond_first[i + 1] - bond_first[i] < family_size[i]; }
+  double max_bond_leverage(int i, const NOSPD::Mat3 &Kinv) const;
 
   using FixPeriNeigh::npartner;
   using FixPeriNeigh::partner;

@@ -77,6 +77,7 @@ PairPeriNospd::PairPeriNospd(LAMMPS *lmp) :
     Pair(lmp), fix_bonds(nullptr), strain_law(Law::SMALL), plane_mode(Plane::NONE),
     stab(Stab::SILLING), stab_param(0.5), fit_quadratic(false),
     influence(NospdBondModel::CONSTANT), thickness(1.0), singular_tol(1.0e-4), damaged_tol(0.1),
+    damaged_leverage(0.5),
     youngs(nullptr), poisson(nullptr), g0(nullptr), stab_scalar(nullptr), cut(nullptr),
     nmax_work(0), bmat(nullptr), tmat(nullptr), moments(nullptr), qmat(nullptr), qsums(nullptr),
     comm_tensors(1)
@@ -163,6 +164,7 @@ void PairPeriNospd::settings(int narg, char **arg)
   thickness = 1.0;
   singular_tol = 1.0e-4;
   damaged_tol = 0.1;
+  damaged_leverage = 0.5;
   temperature_kind = TEMP_NONE;
   temperature_name.clear();
   int iarg = 0;
@@ -238,6 +240,13 @@ void PairPeriNospd::settings(int narg, char **arg)
         error->all(FLERR, "{}: {} must be in (0,1), got {}", cmd, key, arg[iarg + 1]);
       (key == "singular_tol" ? singular_tol : damaged_tol) = tol;
       (key == "singular_tol" ? singular_given : damaged_given) = true;
+      iarg += 2;
+    } else if (key == "damaged_leverage") {
+      need(1);
+      damaged_leverage = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
+      if (!(damaged_leverage > 0.0 && damaged_leverage <= 1.0))
+        error->all(FLERR, "{}: damaged_leverage must be in (0,1] (1: no limit), got {}", cmd,
+                   arg[iarg + 1]);
       iarg += 2;
     } else if (key == "temperature") {
       need(1);
@@ -957,6 +966,7 @@ void PairPeriNospd::init_style()
   model.dim = dim;
   model.singular_tol = singular_tol;
   model.damaged_tol = damaged_tol;
+  model.damaged_leverage = damaged_leverage;
   model.active = active.data();
   model.thickness = thickness;
   model.quadratic = quadratic_active();
@@ -1757,8 +1767,10 @@ void PairPeriNospd::read_restart(FILE *fp)
 /* ---------------------------------------------------------------------- */
 
 // first value of the settings in a restart file: the layout of what follows
-// (files written before it existed start with the strain law, 0..8)
-static constexpr int RESTART_LAYOUT = 0x4e530002;
+// (files written before it existed start with the strain law, 0..8); the
+// layout before damaged_leverage (0x4e530002) is read as without that limit
+static constexpr int RESTART_LAYOUT = 0x4e530003;
+static constexpr int RESTART_LAYOUT_V2 = 0x4e530002;
 
 void PairPeriNospd::write_restart_settings(FILE *fp)
 {
@@ -1768,9 +1780,9 @@ void PairPeriNospd::write_restart_settings(FILE *fp)
                static_cast<int>(stab), influence};
   // the quadratic fit in a bit of its own: files without it read as before
   if (fit_quadratic) iv[2] |= 32;
-  double dv[4] = {stab_param, thickness, singular_tol, damaged_tol};
+  double dv[5] = {stab_param, thickness, singular_tol, damaged_tol, damaged_leverage};
   fwrite(iv, sizeof(int), 4, fp);
-  fwrite(dv, sizeof(double), 4, fp);
+  fwrite(dv, sizeof(double), 5, fp);
   int tv[2] = {static_cast<int>(temperature_kind), static_cast<int>(temperature_name.size())};
   fwrite(tv, sizeof(int), 2, fp);
   fwrite(temperature_name.data(), 1, tv[1], fp);
@@ -1783,18 +1795,19 @@ void PairPeriNospd::read_restart_settings(FILE *fp)
   int layout = 0;
   if (comm->me == 0) utils::sfread(FLERR, &layout, sizeof(int), 1, fp, nullptr, error);
   MPI_Bcast(&layout, 1, MPI_INT, 0, world);
-  if (layout != RESTART_LAYOUT)
+  if (layout != RESTART_LAYOUT && layout != RESTART_LAYOUT_V2)
     error->all(FLERR, "read_restart: the {} settings in this file were written by an older "
                "PERI-NOSPD plugin, whose layout this one cannot read: write the file again "
                "with this plugin", force->pair_style);
   int iv[4];
-  double dv[4];
+  double dv[5] = {0.0, 0.0, 0.0, 0.0, 1.0};
+  const int ndv = (layout == RESTART_LAYOUT) ? 5 : 4;
   if (comm->me == 0) {
     utils::sfread(FLERR, iv, sizeof(int), 4, fp, nullptr, error);
-    utils::sfread(FLERR, dv, sizeof(double), 4, fp, nullptr, error);
+    utils::sfread(FLERR, dv, sizeof(double), ndv, fp, nullptr, error);
   }
   MPI_Bcast(iv, 4, MPI_INT, 0, world);
-  MPI_Bcast(dv, 4, MPI_DOUBLE, 0, world);
+  MPI_Bcast(dv, 5, MPI_DOUBLE, 0, world);
   int tv[2] = {0, 0};
   if (comm->me == 0) utils::sfread(FLERR, tv, sizeof(int), 2, fp, nullptr, error);
   MPI_Bcast(tv, 2, MPI_INT, 0, world);
@@ -1812,6 +1825,7 @@ void PairPeriNospd::read_restart_settings(FILE *fp)
   thickness = dv[1];
   singular_tol = dv[2];
   damaged_tol = dv[3];
+  damaged_leverage = dv[4];
 }
 
 /* ---------------------------------------------------------------------- */

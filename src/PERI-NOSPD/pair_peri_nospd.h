@@ -90,6 +90,7 @@ class PairPeriNospd : public Pair {
   std::vector<double> stress_norm;    // per type: |C|, for the bound on the stiffness
   double singular_tol;    // conditioning below which a family's K is singular
   double damaged_tol;     // the same for a family that lost bonds
+  double damaged_leverage;    // largest bond leverage a family that lost bonds may keep
 
   // per type
   double *youngs, *poisson, *g0;

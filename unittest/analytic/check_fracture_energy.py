@@ -28,8 +28,15 @@ for l in lines[head + 1:]:
         break
     etot.append(float(l.split()[col]))
 etot = np.array(etot)
-if np.any(np.diff(etot) > 1e-9 * abs(etot[0])):
-    sys.exit("etotal increased during the run")
+# velocity Verlet's etotal wobbles from step to step (with thermo 1 the
+# example's rises reach 1.7e5 in pe units, 12 % of what the run dissipates;
+# sampled every 100 steps the dissipation between samples hides them, but
+# not over the run's last, 2-step interval): a rise beyond 1 % of the
+# dissipated energy is creation, which accumulates where wobbles do not
+lost = etot[0] - etot.min()
+if lost <= 0.0 or np.any(np.diff(etot) > 0.01 * lost):
+    sys.exit(f"etotal increased during the run (largest rise {np.diff(etot).max():.4g}, "
+             f"dissipated {lost:.4g})")
 dissipated = (etot[0] - etot[-1]) * a.volume
 
 t, x, y, s = np.loadtxt(a.tip, unpack=True)

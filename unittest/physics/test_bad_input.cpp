@@ -418,6 +418,16 @@ TEST_F(BadInput, DamagedTolOutOfRange)
               HasSubstr("damaged_tol must be in (0,1), got 1"));
 }
 
+TEST_F(BadInput, DamagedLeverageOutOfRange)
+{
+  deck();
+  for (const std::string v : {"0", "1.5", "-0.5"})
+    EXPECT_THAT(error_of(lmp, "pair_style peri/nospd/hs damaged_leverage " + v),
+                HasSubstr("damaged_leverage must be in (0,1] (1: no limit), got " + v));
+  EXPECT_THAT(error_of(lmp, "pair_style peri/nospd damaged_leverage"),
+              HasSubstr("damaged_leverage"));
+}
+
 /* A pair_style command naming the style already in place calls settings()
    on the same instance (LAMMPS keeps it): every keyword the new line does
    not give must take its default again, so that the line means what it

@@ -827,7 +827,10 @@ TEST_F(Damage, PunchThroughCreatesNoEnergy)
   EXPECT_LT(created, 1.0e-3 * work);
   created = punch("peri/nospd/hs stabilization silling 0.5", work);
   EXPECT_LT(created, 1.0e-3 * work);
+  // the bond leverage limit alone keeps the old tolerance from creating energy
   created = punch("peri/nospd singular_tol 1e-4", work);
+  EXPECT_LT(created, 1.0e-3 * work);
+  created = punch("peri/nospd singular_tol 1e-4 damaged_leverage 1", work);
   EXPECT_GT(created, 0.5 * work);
 }
 
@@ -854,8 +857,9 @@ TEST_F(Damage, DamagedFamiliesHeldToDamagedTol)
   EXPECT_EQ(centre_singular("peri/nospd", false), 0);
   EXPECT_EQ(centre_singular("peri/nospd", true), 1);
   EXPECT_EQ(centre_singular("peri/nospd/hs", true), 1);
-  EXPECT_EQ(centre_singular("peri/nospd damaged_tol 0.01", true), 0);
-  EXPECT_EQ(centre_singular("peri/nospd singular_tol 1e-4", true), 0);
+  // (the centre's one bond out of the plane has leverage 1: see the next test)
+  EXPECT_EQ(centre_singular("peri/nospd damaged_tol 0.01 damaged_leverage 1", true), 0);
+  EXPECT_EQ(centre_singular("peri/nospd singular_tol 1e-4 damaged_leverage 1", true), 0);
   EXPECT_EQ(centre_singular("peri/nospd singular_tol 0.07", false), 1);
 
 
@@ -935,6 +939,55 @@ TEST_F(Damage, SingularDamagedFamiliesStaySingular)
           "region top block INF INF INF INF 0.5 INF", "group top region top",
           "displace_atoms top move 0 0 0.0002 units box", "run 0 post no"})
       cmd(lmp, c);
+    EXPECT_EQ(bonds()->singular[centre()], 0) << style;
+    EXPECT_GT(bonds()->energy_density[centre()], 1e9) << style;
+  }
+}
+
+/* A family that lost bonds is singular when its fit hinges on one bond
+   (leverage w xi^T K^-1 xi above damaged_leverage, default 0.5), however
+   well conditioned.  A 3 x 3 x 3 block, horizon 1.5 spacings, loses its
+   bottom layer and all of its top layer but the point above the centre:
+   the centre keeps its 8 in-plane partners and that point (conditioning
+   0.44, above damaged_tol 0.1), whose bond alone gives F its third column
+   (leverage 1).  Lifting it strains that column: the default drops the
+   centre's force state; with damaged_leverage 1 (no limit) the centre
+   stores the energy of the lift. */
+TEST_F(Damage, DamagedFamiliesHingingOnOneBondAreSingular)
+{
+  const std::string rfile = "nospd_leverage_test.restart." + std::to_string(getpid());
+  auto centre_after_cut = [&](const std::string &style) {
+    delete lmp;
+    lmp = open_lammps();
+    for (const std::string &c : std::vector<std::string>
+         {"units si", "atom_style peri", "atom_modify map array", "boundary s s s",
+          "lattice sc 0.001", "region box block -1.5 1.5 -1.5 1.5 -1.5 1.5",
+          "create_box 1 box", "create_atoms 1 box", "set group all density 7850",
+          "set group all volume 1e-9", "pair_style " + style,
+          "pair_coeff * * 200e9 0.3 0.00151", "run 0 post no",
+          "region bottom block INF INF INF INF INF -0.5",
+          "region column cylinder z 0 0 0.5 INF INF side out",
+          "region top block INF INF INF INF 0.5 INF", "region ring intersect 2 column top",
+          "region cut union 2 bottom ring", "delete_atoms region cut", "group top region top",
+          "displace_atoms top move 0 0 0.0002 units box", "run 0 post no"})
+      cmd(lmp, c);
+    EXPECT_EQ(lmp->atom->natoms, 10) << style;
+    return centre();
+  };
+  for (const std::string style : {"peri/nospd", "peri/nospd/hs"}) {
+    int i = centre_after_cut(style);
+    EXPECT_EQ(bonds()->singular[i], 1) << style;
+    EXPECT_EQ(bonds()->energy_density[i], 0.0) << style;
+    i = centre_after_cut(style + " damaged_leverage 1");
+    EXPECT_EQ(bonds()->singular[i], 0) << style;
+    EXPECT_GT(bonds()->energy_density[i], 1e9) << style;
+    // the setting travels in restart files (the default would drop the centre)
+    cmd(lmp, "write_restart " + rfile);
+    delete lmp;
+    lmp = open_lammps();
+    cmd(lmp, "read_restart " + rfile);
+    cmd(lmp, "run 0 post no");
+    std::remove(rfile.c_str());
     EXPECT_EQ(bonds()->singular[centre()], 0) << style;
     EXPECT_GT(bonds()->energy_density[centre()], 1e9) << style;
   }
