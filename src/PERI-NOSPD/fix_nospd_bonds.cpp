@@ -1785,6 +1785,7 @@ void FixNospdBonds::update_shape_tensors()
       // a stored energy that no work put in (sweep N's impact: 4e9 per atom
       // in one step).
       singular[i] = NOSPD::safe_inverse(K, dim, conditioning_tolerance(i), Ki) ? 0 : 1;
+      // and a damaged family whose fit hinges on one bond (max_bond_leverage)
       if (!singular[i] && lost_bonds(i) && model.damaged_leverage < 1.0 &&
           max_bond_leverage(i, Ki) > model.damaged_leverage)
         singular[i] = 1;
