@@ -20,6 +20,7 @@
 
 #include <algorithm>
 #include <climits>
+#include <cstdint>
 #include <cmath>
 #include <cstring>
 #include <numeric>
@@ -1036,7 +1037,8 @@ void PairPeriNospdHS::map_stencils()
       if (!p.shape_hash) {
         std::vector<int64_t> key = p.key;
         for (double w : p.w) key.push_back(std::llround(std::log(w) * 1.0e9));
-        key.push_back(std::llround(std::log(p.tol) * 1.0e9));
+        // (a family kept singular for good has tol infinity)
+        key.push_back(std::isfinite(p.tol) ? std::llround(std::log(p.tol) * 1.0e9) : INT64_MAX);
         p.shape_hash = key_hash(key) | 1;
       }
       const uint64_t h = key_hash({(int64_t) p.shape_hash, (int64_t) type[i]});
