@@ -993,6 +993,54 @@ TEST_F(Damage, DamagedFamiliesHingingOnOneBondAreSingular)
   }
 }
 
+/* A fragmenting impact dissipates energy (hostile sweep N): a steel ball
+   of 56 points strikes an aluminium plate of 768 points at 200 m/s and
+   shatters it (every plate point singular at the end), finite strain,
+   stretch damage 0.001 with contact.  ke + pe (contact energy in pe) never
+   rises above its start by more than 3 % and ends well below it (0.78 of
+   it).  It does rise 1.8 % while the ball first cuts in (every step
+   sampled; 1.95 % at half the time step, at the same time: bonds of
+   well-filled families breaking under non-affine motion, a correspondence
+   model's own effect, not the integrator's);
+   with damaged families allowed back (no leverage limit) it ends at 1.23,
+   and before damaged families were kept singular at 2.24. */
+TEST_F(Damage, FragmentingImpactDissipates)
+{
+  auto impact = [&](const std::string &settings, double &highest) {
+    delete lmp;
+    lmp = open_lammps();
+    for (const std::string &c : std::vector<std::string>
+         {"units si", "atom_style peri", "atom_modify map array", "boundary s s s",
+          "lattice sc 0.001", "region box block -1 17 -1 17 -1 14", "create_box 2 box",
+          "region plate block -0.25 15.25 -0.25 15.25 -0.25 2.25",
+          "create_atoms 1 region plate", "region ball sphere 7.5 7.5 9 2.5",
+          "create_atoms 2 region ball", "group ball type 2", "set type 1 density 2700",
+          "set type 2 density 7850", "set group all volume 1e-9", "neighbor 0.0003 bin",
+          "pair_style peri/nospd strain finite " + settings,
+          "pair_coeff 1 1 materials.nospd aluminium 0.00301",
+          "pair_coeff 2 2 materials.nospd steel 0.00301",
+          "fix dmg all nospd/damage stretch 0.001 contact yes nofail group ball",
+          "velocity ball set 20.0 0.0 -200.0 units box", "fix 1 all nve", "timestep 2e-8",
+          "compute ke all ke", "run 0 post no"})
+      cmd(lmp, c);
+    auto *ke = lmp->modify->get_compute_by_id("ke");
+    auto energy = [&] { return ke->compute_scalar() + potential_energy(lmp); };
+    const double e0 = energy();
+    highest = e0;
+    for (int k = 0; k < 30; k++) {
+      cmd(lmp, "run 50 post no");
+      highest = std::max(highest, energy());
+    }
+    EXPECT_EQ(bonds()->compute_vector(2), 768.0) << settings;    // the plate shattered
+    highest /= e0;
+    return energy() / e0;
+  };
+  double highest = 0.0;
+  EXPECT_LT(impact("", highest), 0.9);
+  EXPECT_LT(highest, 1.03);
+  EXPECT_GT(impact("damaged_leverage 1", highest), 1.1);
+}
+
 /* Contact energy and virial.  During the collision of two plates the
    total energy ke + pe, with the contact energy in pe (the fix's default),
    stays constant while the contact energy itself rises to a sizeable part
