@@ -2,7 +2,8 @@
 # Throughput benchmark (not part of the test suite): LAMMPS's peri/pmb and
 # peri/lps against peri/nospd variants, same scene, same machine, same run.
 # usage: bench/run.sh LMP PLUGIN_DIR [n] [steps] [repeats]
-# Writes bench/results/throughput.csv and prints ratios to peri/lps.  Rows
+# Writes bench/results/throughput.csv and prints ratios to peri/lps (best
+# loop time of REPEATS runs per row, the repeats going round the rows).  Rows
 # run on one core unless their launch says otherwise: omp2 = one rank with
 # `-sf omp -pk omp 2`, np2 = `mpirun -np 2`, np2rcb = `mpirun -np 2` with
 # tiled communication balanced by recursive bisection, d2 = the 2D plane-strain
@@ -34,29 +35,51 @@ declare -a MODELS=("lps|" "pmb|" "nospd|stabilization none" "nospd|stabilization
   "np2:lps|" "omp2:hs|form II" "np2rcb:nospd|stabilization silling 0.5" "np2rcb:lps|"
   "d2:nospd|stabilization silling 0.5" "d2:hs|form II" "d2:hs|form II stencil no"
   "p3:nospd|stabilization silling 0.5" "p3:hs|form II" "p3:hs|form II stencil no")
-lps_rate=""
+# the rows this run keeps, parsed once
+declare -a STYLE SETTINGS COEFF LAUNCH
 for m in "${MODELS[@]}"; do
   if [ -n "${BENCH_ONLY:-}" ] && [ "$m" != "lps|" ] && ! grep -Eq -- "$BENCH_ONLY" <<< "$m"; then continue; fi
   launch=1; [[ "$m" == *:* && "${m%%|*}" == *:* ]] && { launch=${m%%:*}; m=${m#*:}; }
-  style=${m%%|*}; rest=${m#*|}; settings=${rest%%|*}; coeff=""
+  rest=${m#*|}; settings=${rest%%|*}; coeff=""
   [ "$rest" != "$settings" ] && coeff=${rest#*|}
-  pre=(); post=(); ranks=1; threads=1; n=$N
-  case $launch in
-    omp2) post=(-sf omp -pk omp 2); threads=2 ;;
-    np2) pre=(mpirun --allow-run-as-root -np 2); ranks=2 ;;
-    np2rcb) pre=(mpirun --allow-run-as-root -np 2); post=(-var rcb yes); ranks=2 ;;
-    d2) post=(-var dim 2); n=${BENCH_N2:-200} ;;
-    p3) post=(-var periodic yes) ;;
-  esac
-  best=""
-  for r in $(seq "$REPEATS"); do
-    "${pre[@]}" "$LMP" -in "$HERE/in.block" -var n "$n" -var style "$style" -var settings "$settings" \
-      -var coeff "$coeff" -var steps "$STEPS" -log none -screen "$OUT/screen.txt" "${post[@]}"
+  STYLE+=("${m%%|*}"); SETTINGS+=("$settings"); COEFF+=("$coeff"); LAUNCH+=("$launch")
+done
+nrows=${#STYLE[@]}
+# Repeats go round the rows (row 1, row 2, ..., then row 1 again), not one
+# row's repeats in a row: this kind of machine's speed drifts by tens of
+# per cent over minutes, and a drift then spreads over every row instead of
+# landing on one, so the ratios between rows hold better.  Each row keeps
+# its best loop time, its points and its logged memory.
+declare -a BEST POINTS MEM
+for r in $(seq "$REPEATS"); do
+  for k in $(seq 0 $((nrows - 1))); do
+    style=${STYLE[$k]}; launch=${LAUNCH[$k]}
+    pre=(); post=(); n=$N
+    case $launch in
+      omp2) post=(-sf omp -pk omp 2) ;;
+      np2) pre=(mpirun --allow-run-as-root -np 2) ;;
+      np2rcb) pre=(mpirun --allow-run-as-root -np 2); post=(-var rcb yes) ;;
+      d2) post=(-var dim 2); n=${BENCH_N2:-200} ;;
+      p3) post=(-var periodic yes) ;;
+    esac
+    "${pre[@]}" "$LMP" -in "$HERE/in.block" -var n "$n" -var style "$style" \
+      -var settings "${SETTINGS[$k]}" -var coeff "${COEFF[$k]}" -var steps "$STEPS" -log none \
+      -screen "$OUT/screen.txt" "${post[@]}"
     t=$(grep "Loop time" "$OUT/screen.txt" | tail -1 | awk '{print $4}')
-    best=$(awk -v a="${best:-1e30}" -v b="$t" 'BEGIN{print (b<a)?b:a}')
+    BEST[$k]=$(awk -v a="${BEST[$k]:-1e30}" -v b="$t" 'BEGIN{print (b<a)?b:a}')
+    POINTS[$k]=$(grep "Loop time" "$OUT/screen.txt" | tail -1 | awk '{print $(NF-1)}')
+    MEM[$k]=$(awk '/bond and reference state/{print $(NF-1)}' "$OUT/screen.txt" | head -1)
   done
-  points=$(grep "Loop time" "$OUT/screen.txt" | tail -1 | awk '{print $(NF-1)}')
-  mem=$(awk '/bond and reference state/{print $(NF-1)}' "$OUT/screen.txt" | head -1)
+done
+lps_rate=""
+for k in $(seq 0 $((nrows - 1))); do
+  style=${STYLE[$k]}; launch=${LAUNCH[$k]}; settings=${SETTINGS[$k]}; coeff=${COEFF[$k]}
+  ranks=1; threads=1
+  case $launch in
+    omp2) threads=2 ;;
+    np2|np2rcb) ranks=2 ;;
+  esac
+  best=${BEST[$k]}; points=${POINTS[$k]}; mem=${MEM[$k]}
   # the pair style's per-point work arrays: B with the stabilization scalar (10), T (9), moments (6)
   [ -n "$mem" ] && mem=$((mem + 25 * 8))
   rate=$(awk -v p="$points" -v s="$STEPS" -v t="$best" 'BEGIN{printf "%.4g", p*s/t}')
