@@ -51,17 +51,20 @@ nrows=${#STYLE[@]}
 # landing on one, so the ratios between rows hold better.  Each row keeps
 # its best loop time, its points and its logged memory.
 declare -a BEST POINTS MEM
+# what a row's launch means: the command's prefix and suffix, n, ranks and threads
+set_launch() {
+  pre=(); post=(); n=$N; ranks=1; threads=1
+  case $1 in
+    omp2) post=(-sf omp -pk omp 2); threads=2 ;;
+    np2) pre=(mpirun --allow-run-as-root -np 2); ranks=2 ;;
+    np2rcb) pre=(mpirun --allow-run-as-root -np 2); post=(-var rcb yes); ranks=2 ;;
+    d2) post=(-var dim 2); n=${BENCH_N2:-200} ;;
+    p3) post=(-var periodic yes) ;;
+  esac
+}
 for r in $(seq "$REPEATS"); do
   for k in $(seq 0 $((nrows - 1))); do
-    style=${STYLE[$k]}; launch=${LAUNCH[$k]}
-    pre=(); post=(); n=$N
-    case $launch in
-      omp2) post=(-sf omp -pk omp 2) ;;
-      np2) pre=(mpirun --allow-run-as-root -np 2) ;;
-      np2rcb) pre=(mpirun --allow-run-as-root -np 2); post=(-var rcb yes) ;;
-      d2) post=(-var dim 2); n=${BENCH_N2:-200} ;;
-      p3) post=(-var periodic yes) ;;
-    esac
+    style=${STYLE[$k]}; set_launch "${LAUNCH[$k]}"
     "${pre[@]}" "$LMP" -in "$HERE/in.block" -var n "$n" -var style "$style" \
       -var settings "${SETTINGS[$k]}" -var coeff "${COEFF[$k]}" -var steps "$STEPS" -log none \
       -screen "$OUT/screen.txt" "${post[@]}"
@@ -74,11 +77,7 @@ done
 lps_rate=""
 for k in $(seq 0 $((nrows - 1))); do
   style=${STYLE[$k]}; launch=${LAUNCH[$k]}; settings=${SETTINGS[$k]}; coeff=${COEFF[$k]}
-  ranks=1; threads=1
-  case $launch in
-    omp2) threads=2 ;;
-    np2|np2rcb) ranks=2 ;;
-  esac
+  set_launch "$launch"
   best=${BEST[$k]}; points=${POINTS[$k]}; mem=${MEM[$k]}
   # the pair style's per-point work arrays: B with the stabilization scalar (10), T (9), moments (6)
   [ -n "$mem" ] && mem=$((mem + 25 * 8))
