@@ -21,7 +21,9 @@
    - the pass-2 record of each atom, BREC = 10 doubles: B^T row-major (B's
      columns one after the other) and the stabilization scalar, which the
      load of the third column brings in its fourth lane;
-   - T: 9 per atom, T^T likewise, with one double after the last atom.
+   - T: 9 per atom, T^T likewise, with one double after the last atom
+     (Wan: S; hourglass: c H, the scalar already applied, which saves the
+     pass three products per bond).
 ------------------------------------------------------------------------- */
 
 #ifndef NOSPD_BOND_SUMS_H
@@ -130,7 +132,7 @@ inline void quadratic_sums(const Positions &p, const BondList &bl, int i, double
    (0 none, 1 Silling, 2 hourglass, 3 Wan, 5 Silling on the quadratic fit):
      g = w ((B_j [+ B_i]) xi + stabilization term),  f = sum_j g
    B: the BREC records (B^T and the stabilization scalar c); T: T^T per
-   atom (Wan's S, or the hourglass H = F - I); Q: the quadratic fit's
+   atom (Wan's S, or the hourglass c H, H = F - I); Q: the quadratic fit's
    alpha Q per atom, 6 columns of 3 (with 5, which adds
    (alpha_j Q_j [- alpha_i Q_i]) phi_q(xi) per bond).  Without VIRIAL the i-terms are
    left out (the caller adds B_i sum_j w xi and S_i sum_j w U); with it they
@@ -237,6 +239,7 @@ inline void force_sums(const Positions &p, const BondList &bl, const ForceTerms 
 /* ----------------------------------------------------------------------
    pass 2 with the hourglass term, g = w ((B_j [+ B_i]) xi + h Y), where
      h = (c_i z_i + c_j z_j) . Y / (|Y|^2 |xi|),  z = U - H xi,
+   written (c_i + c_j) U - (T_i + T_j) xi with T = c H as stored,
    and h = 0 for a collapsed bond (Y = 0: no direction).  Bonds go four at
    a time so that their three dot products are one shuffle-and-add each and
    the square root and the division one vector operation for the four
@@ -260,7 +263,7 @@ namespace detail {
   {
     using namespace simd;
     const StressBond t = stress_bond<VIRIAL>(p, ft, j, x0i, xi, Bi);
-    const v4 z = si * (t.u - matvec(Ti, t.e)) + t.sj * (t.u - matvec(ft.T + 9 * j, t.e));
+    const v4 z = (si + t.sj) * t.u - (matvec(Ti, t.e) + matvec(ft.T + 9 * j, t.e));
     return {t.g, t.y, z * t.y, t.y * t.y, t.e * t.e};
   }
 
@@ -322,8 +325,8 @@ inline void hourglass_force_sums(const Positions &p, const BondList &bl, const F
    are taken from this end only (their owner takes the other).  Per bond
    the arithmetic of hourglass_force_sums with VIRIAL (g holds both B
    terms), arranged as g = (B_i + B_j) xi + h Y and
-   c_i z_i + c_j z_j = (c_i + c_j) U - (c_i H_i + c_j H_j) xi: the same
-   up to rounding, for half the bonds' loads, products and roots.
+   c_i z_i + c_j z_j = (c_i + c_j) U - ((T_i + T_j) xi): the same up to
+   rounding, for half the bonds' loads, products and roots.
    f: 3 per atom; inv_vol: 1 / V of owned atoms (0 where V is); with VIRIAL, v (6 per
    atom, zeroed by the caller) collects each end's half of the bond virial
    as hourglass_force_sums does.
@@ -335,7 +338,7 @@ struct PairOrder {
 
 namespace detail {
   // what every bond of point i shares: its positions, the columns of B_i
-  // and of c_i H_i, c_i
+  // and of T_i = c_i H_i, c_i
   struct PairPoint {
     simd::v4 x0, x, b[3], t[3];
     double s;
@@ -355,8 +358,8 @@ namespace detail {
     const double sj = col2[3];
     const v4 g = (pt.b[0] + load4(Bj)) * e[0] + (pt.b[1] + load4(Bj + 3)) * e[1] +
         (pt.b[2] + col2) * e[2];
-    const v4 hx = (pt.t[0] + sj * load4(Tj)) * e[0] + (pt.t[1] + sj * load4(Tj + 3)) * e[1] +
-        (pt.t[2] + sj * load4(Tj + 6)) * e[2];
+    const v4 hx = (pt.t[0] + load4(Tj)) * e[0] + (pt.t[1] + load4(Tj + 3)) * e[1] +
+        (pt.t[2] + load4(Tj + 6)) * e[2];
     const v4 z = (pt.s + sj) * (y - e) - hx;
     return {g, y, z * y, y * y, e * e};
   }
@@ -439,7 +442,7 @@ inline void hourglass_pair_sums(const Positions &p, const PairOrder &po, const i
     pt.s = Bi[9];
     for (int k = 0; k < 3; k++) {
       pt.b[k] = load4(Bi + 3 * k);
-      pt.t[k] = pt.s * load4(Ti + 3 * k);
+      pt.t[k] = load4(Ti + 3 * k);
     }
     v4 acc{}, vc[3] = {};
     detail::hourglass_pair_run<true, VIRIAL>(p, bj, bw, ft, pt, vol[i], inv_vol, po.pair[i],

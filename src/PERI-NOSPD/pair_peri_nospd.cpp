@@ -1299,7 +1299,8 @@ void PairPeriNospd::constitutive_range(int from, int to, int eflag, Tally &t)
       B -= S * H;
       store_transposed(S, tmat[i]);
     } else if (stab == Stab::HOURGLASS) {
-      store_transposed(H, tmat[i]);
+      // c H: pass 2 needs the two ends' H xi only scaled by their c
+      store_transposed(Mat3(stab_scalar[itype] * H), tmat[i]);
     }
     store_transposed(B, bmat[i]);
     bmat[i][STAB_SCALAR] = stab_scalar[itype];

@@ -715,7 +715,7 @@ void PairPeriNospdHS::stabilization_pass(int eflag)
     bmat[i][STAB_SCALAR] = s;
     if (!silling) {
       NOSPD::store(Mat3::Zero(), bmat[i]);
-      store_transposed(H, tmat[i]);
+      store_transposed(Mat3(s * H), tmat[i]);    // the hourglass pass reads c H
       continue;
     }
     store_transposed(Mat3(-s * H), bmat[i]);

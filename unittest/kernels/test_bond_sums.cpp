@@ -180,7 +180,8 @@ template <int STAB> void naive_force(const Cloud &c, double *f, double *v)
           hi += c.T[3 * k + r] * e[k];
           hj += c.T[9 * j + 3 * k + r] * e[k];
         }
-        z[r] = sc(c, 0) * (uu[r] - hi) + sc(c, j) * (uu[r] - hj);
+        // T holds c H: c_i (U - H_i xi) + c_j (U - H_j xi)
+        z[r] = (sc(c, 0) + sc(c, j)) * uu[r] - hi - hj;
         ry2 += y[r] * y[r];
         re += e[r] * e[r];
       }
@@ -292,8 +293,9 @@ TEST(BondSums, HourglassVanishesOnAffineFieldAndCollapsedBond)
       for (int k = 0; k < 3; k++) hx += H[3 * r + k] * c.x0[3 * a + k];
       c.x[3 * a + r] = c.x0[3 * a + r] + hx;
     }
+    // T = c H (the hourglass pass's record) with each point's own c
     for (int r = 0; r < 3; r++)
-      for (int k = 0; k < 3; k++) c.T[9 * a + 3 * k + r] = H[3 * r + k];
+      for (int k = 0; k < 3; k++) c.T[9 * a + 3 * k + r] = sc(c, a) * H[3 * r + k];
   }
   for (int a = 0; a < c.n; a++)
     for (int k = 0; k < 9; k++) c.B[BREC * a + k] = 0.0;
