@@ -16,6 +16,7 @@
 
 #include "nospd_constitutive.h"
 #include "nospd_plasticity.h"
+#include "nospd_umat.h"
 
 #include <cmath>
 #include <cstring>
@@ -167,7 +168,12 @@ int ComputeNospdAtom::history_columns(int i, int q, double *row, int c) const
   namespace H = NOSPD::Hist;
   FixNospdBonds *bonds = pair->bonds();
   const int n = ncolumns(q);
-  const bool has = bonds->nhistory > 0 && pair->has_history(atom->type[i]);
+  // a UMAT's row keeps its SPD + SCD where the plastic laws keep their work
+  // (UmatHist::WORK == Hist::WORK), the column the bonds fix sums
+  static_assert(NOSPD::UmatHist::WORK == H::WORK, "UMAT dissipation not in the work column");
+  const int itype = atom->type[i];
+  const bool has = bonds->nhistory > 0 &&
+      (pair->has_history(itype) || (q == PLASTIC_WORK && pair->is_umat(itype)));
   if (!has && q != TEMPERATURE) {
     for (int k = 0; k < n; k++) row[c + k] = 0.0;
     return c + n;

@@ -47,6 +47,7 @@
 #include "update.h"
 
 #include "nospd_damage.h"
+#include "nospd_input.h"
 #include "nospd_plasticity.h"
 
 #include "nospd_threads.h"
@@ -115,7 +116,9 @@ FixNospdDamage::FixNospdDamage(LAMMPS *lmp, int narg, char **arg) :
   extvector = 0;
   restart_global = 1;
 
-  auto number = [&](int i) { return utils::numeric(FLERR, arg[i], false, lmp); };
+  // the keyword a number belongs to, for its error (set before each read)
+  std::string numkey;
+  auto number = [&](int i) { return NOSPD_INPUT::real(error, cmd, numkey, arg[i]); };
   auto need = [&](int iarg, int n, const std::string &key) {
     if (iarg + n >= narg) error->all(FLERR, "{}: {} needs {} value(s)", cmd, key, n);
   };
@@ -131,13 +134,15 @@ FixNospdDamage::FixNospdDamage(LAMMPS *lmp, int narg, char **arg) :
     if (strcmp(arg[iarg + 1], "g0") == 0) {
       from_g0 = true;
       iarg += 2;
-      if (iarg < narg && utils::is_double(arg[iarg])) {
+      if (iarg < narg && NOSPD::parse_real(arg[iarg], value) != NOSPD::Parsed::NOT_A_NUMBER) {
+        numkey = c + " g0";
         value = number(iarg);
         g0_given = true;
         if (!(value > 0.0)) error->all(FLERR, "{}: fracture energy G0 must be > 0, got {}", cmd, arg[iarg]);
         iarg++;
       }
     } else {
+      numkey = c;
       value = number(iarg + 1);
       if (!(value > 0.0))
         error->all(FLERR, "{}: critical {} must be > 0, got {}", cmd,
@@ -153,12 +158,14 @@ FixNospdDamage::FixNospdDamage(LAMMPS *lmp, int narg, char **arg) :
     else
       error->all(FLERR, "{}: unknown criterion '{} {}' (stress principal, stress vonmises, "
                  "strain principal)", cmd, c, kind);
+    numkey = c + " " + kind;
     value = number(iarg + 2);
     if (!(value > 0.0)) error->all(FLERR, "{}: critical {} must be > 0, got {}", cmd, c, arg[iarg + 2]);
     iarg += 3;
   } else if (c == "eqps") {
     need(iarg, 1, c);
     criterion = EQPS;
+    numkey = c;
     value = number(iarg + 1);
     if (!(value > 0.0))
       error->all(FLERR, "{}: critical equivalent plastic strain must be > 0, got {}", cmd, arg[iarg + 1]);
@@ -175,10 +182,11 @@ FixNospdDamage::FixNospdDamage(LAMMPS *lmp, int narg, char **arg) :
   const char *contact_keyword_given = nullptr;    // the last contact/... keyword
   while (iarg < narg) {
     const std::string key = arg[iarg];
+    numkey = key;
     if (key == "scatter") {
       need(iarg, 2, key);
       scatter_width = number(iarg + 1);
-      scatter_seed = utils::inumeric(FLERR, arg[iarg + 2], false, lmp);
+      scatter_seed = NOSPD_INPUT::integer(error, cmd, "scatter seed", arg[iarg + 2], -INT_MAX, INT_MAX);
       if (!(scatter_width >= 0.0 && scatter_width < 1.0))
         error->all(FLERR, "{}: scatter width must be in [0,1), got {}", cmd, arg[iarg + 1]);
       if (scatter_seed <= 0) error->all(FLERR, "{}: scatter seed must be > 0, got {}", cmd, arg[iarg + 2]);
@@ -209,7 +217,7 @@ FixNospdDamage::FixNospdDamage(LAMMPS *lmp, int narg, char **arg) :
       const int n = (dim == 2) ? 4 : 9;
       need(iarg, n, key + (dim == 2 ? " (2D: x1 y1 x2 y2)" : " (3D: x1 y1 z1 x2 y2 z2 x3 y3 z3)"));
       for (int k = 1; k <= n; k++)
-        if (!utils::is_double(arg[iarg + k]))
+        if (!utils::is_double(arg[iarg + k]) && !utils::strmatch(arg[iarg + k], "^[-+]?(inf|nan)"))
           error->all(FLERR, "{}: precrack needs {} numbers in {}D, got '{}'", cmd, n, dim, arg[iarg + k]);
       std::array<double, 9> p{};
       for (int k = 0; k < n; k++) p[k] = number(iarg + 1 + k);
@@ -260,7 +268,7 @@ FixNospdDamage::FixNospdDamage(LAMMPS *lmp, int narg, char **arg) :
       iarg += 2;
     } else if (key == "every") {
       need(iarg, 1, key);
-      nevery = utils::inumeric(FLERR, arg[iarg + 1], false, lmp);
+      nevery = NOSPD_INPUT::integer(error, cmd, key, arg[iarg + 1], -INT_MAX, INT_MAX);
       if (nevery <= 0) error->all(FLERR, "{}: every must be > 0, got {}", cmd, arg[iarg + 1]);
       iarg += 2;
     } else {

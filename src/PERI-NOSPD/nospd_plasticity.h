@@ -395,10 +395,12 @@ inline double strain_rate(Law law, const Mat3 &F, const double *hn, double dt)
 
    A Johnson-Cook yield surface moves between steps (rate and temperature):
    the accepted state of the last step may lie outside the surface the new
-   increment starts from.  The elastic energy its relaxation releases beyond
-   the flow-stress integral is dissipated too: it is W_trial - W - dD of the
-   return evaluated at the accepted step's F, added to the plastic work, so
-   that ke + pe + plastic work stays the conserved total. */
+   increment starts from.  It is first returned onto that surface at its own
+   configuration (the accepted F): at fixed F no work is done, so all the
+   elastic energy the relaxation releases, W_trial - W, is dissipated (and
+   heats the point), and the step's increment starts from the relaxed
+   history.  A step that then unloads is elastic from the relaxed state, so
+   ke + pe + plastic work books no dissipation the stress did not undergo. */
 inline ReturnStatus inelastic_point_3d(Law law, const Lame &m, const FlowLaw &fl,
                                        const ThermalLaw &th, const PointEnv &env, const Mat3 &F,
                                        const double *hn, double *h1, Mat3 &P, double &W)
@@ -409,22 +411,31 @@ inline ReturnStatus inelastic_point_3d(Law law, const Lame &m, const FlowLaw &fl
     env1.has_factor = true;
     env1.factor = fl.factor(env.dt > 0.0 ? hn[Hist::RATE] : 0.0, env.T_base + hn[Hist::HEAT]);
   }
+  const double *start = hn;
+  double hr[Hist::SIZE];
+  double released = 0.0;
+  if (fl.active && fl.kind == Hardening::JOHNSON_COOK) {
+    Mat3 Pr;
+    double Wr, Wtr;
+    const Mat3 Fa = Mat3::Identity() + load(hn + Hist::FPREV);
+    if (detail::point_core(law, m, fl, th, env1, Fa, hn, hr, Pr, Wr, Wtr) == ReturnStatus::OK &&
+        hr[Hist::YIELDING] > 0.0) {
+      released = Wtr - Wr;
+      // booked after the step, so that the step's thermal strain and flow
+      // stress take the lagged heat as every other step does
+      hr[Hist::WORK] = hn[Hist::WORK];
+      hr[Hist::HEAT] = hn[Hist::HEAT];
+      start = hr;
+    }
+  }
   double W_trial;
-  const ReturnStatus st = detail::point_core(law, m, fl, th, env1, F, hn, h1, P, W, W_trial);
+  const ReturnStatus st = detail::point_core(law, m, fl, th, env1, F, start, h1, P, W, W_trial);
   if (st != ReturnStatus::OK) return st;
   h1[Hist::RATE] = strain_rate(law, F, hn, env.dt);
-  if (fl.active && fl.kind == Hardening::JOHNSON_COOK) {
-    double hp[Hist::SIZE];
-    Mat3 Pp;
-    double Wp, Wtp;
-    const Mat3 Fp = Mat3::Identity() + load(hn + Hist::FPREV);
-    if (detail::point_core(law, m, fl, th, env1, Fp, hn, hp, Pp, Wp, Wtp) == ReturnStatus::OK) {
-      const double relax = Wtp - Wp - (hp[Hist::WORK] - hn[Hist::WORK]);
-      if (relax > 0.0) {
-        h1[Hist::WORK] += relax;
-        if (th.cp > 0.0 && env.rho > 0.0) h1[Hist::HEAT] += th.chi * relax / (env.rho * th.cp);
-      }
-    }
+  if (released > 0.0) {
+    h1[Hist::WORK] += released;
+    if (th.cp > 0.0 && env.rho > 0.0) h1[Hist::HEAT] += th.chi * released / (env.rho * th.cp);
+    h1[Hist::YIELDING] = 1.0;
   }
   store(F - Mat3::Identity(), h1 + Hist::FPREV);
   return ReturnStatus::OK;

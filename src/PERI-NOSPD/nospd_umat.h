@@ -97,12 +97,14 @@ struct UmatPoint {
 enum class UmatStatus { OK, UNDEFINED, NONFINITE, ABORT, STATEV_OVERFLOW };
 
 /* A UMAT that writes more STATEV than NSTATV would overwrite the heap
-   past its buffer.  The buffer carries a guard zone of NaNs with a payload
-   no arithmetic produces, compared bit for bit after each call: an
-   overwritten guard is reported, and the zone absorbs the overflow of a
-   UMAT that writes up to STATEV_GUARD values too many. */
+   past its buffer.  The buffer carries a guard zone of one finite value
+   (about 1.24, all 52 mantissa bits set in an odd pattern) compared bit for
+   bit after each call: an assignment past NSTATV changes it, and so does
+   arithmetic that accumulates into it (a NaN would stay the same NaN under
+   addition and hide STATEV(I) = STATEV(I) + X).  The zone absorbs the
+   overflow of a UMAT that writes up to STATEV_GUARD values too many. */
 constexpr int STATEV_GUARD = 64;
-constexpr std::uint64_t STATEV_SENTINEL = 0x7ff8dead5eed1e55ULL;
+constexpr std::uint64_t STATEV_SENTINEL = 0x3ff3dead5eed1e55ULL;
 
 inline void fill_guard(double *g)
 {

@@ -13,6 +13,7 @@
 #include "utils.h"
 
 #include "nospd_formula.h"
+#include "nospd_input.h"
 
 #include <algorithm>
 #include <cmath>
@@ -24,6 +25,10 @@ using namespace LAMMPS_NS;
 using NOSPD::Law;
 using NOSPD::Mat3;
 using NOSPD::Plane;
+
+// NPROPS and NSTATV: far beyond any published UMAT; per point (and per bond
+// of the bond-associated style), so a slip of digits cannot exhaust memory
+static constexpr int USER_COUNT_MAX = 10000;
 
 /* ----------------------------------------------------------------------
    Abaqus's error utilities, for UMATs that call them.  LAMMPS loads this
@@ -115,13 +120,10 @@ bool NospdUserMaterials::parse(const std::vector<std::string> &words, size_t &k,
     if (k + n >= words.size()) error->all(FLERR, "{}: keyword {} needs {} value(s)", where, key, n);
   };
   auto number = [&](const std::string &w) {
-    if (!utils::is_double(w)) error->all(FLERR, "{}: keyword {} expects a number, got '{}'", where, key, w);
-    return std::stod(w);
+    return NOSPD_INPUT::real(error, where, "keyword " + key, w);
   };
   auto count = [&](const std::string &w) {
-    if (!utils::is_integer(w) || std::stol(w) < 0)
-      error->all(FLERR, "{}: keyword {} expects a count >= 0, got '{}'", where, key, w);
-    return static_cast<int>(std::stol(w));
+    return NOSPD_INPUT::integer(error, where, "keyword " + key, w, 0, USER_COUNT_MAX);
   };
   if (key == "energy") {
     need(1);
@@ -202,12 +204,14 @@ void NospdUserMaterials::setup(Law law, Plane plane, const int *active,
       if (s.library.empty())
         error->all(FLERR, "{}: strain umat needs a library for type {}: pair_coeff {} {} E nu "
                    "delta umat path/libumat.so props N ... statev N", cmd, i, i, i);
+      check_restored(i);
       setup_umat(i, law, plane, names[i]);
     } else if (s.any()) {
       error->all(FLERR, "{}: type {} has {} but the strain law is neither formula nor umat",
                  cmd, i, s.energy.empty() ? "a umat library" : "an energy formula");
     }
   }
+  restored.clear();    // later runs carry this run's state
 }
 
 /* ---------------------------------------------------------------------- */
@@ -249,6 +253,12 @@ void NospdUserMaterials::setup_formula(int itype, Plane plane, NOSPD::Lame &m, d
   const double mu = 0.5 * (c11 - c12), lambda = c12;
   const double E_w = mu * (3 * lambda + 2 * mu) / (lambda + mu);
   const double nu_w = lambda / (2 * (lambda + mu));
+  // an unstable or undefined linearization is not a mismatch to warn about:
+  // the body would collapse or fill with NaN at the first step
+  if (!(std::isfinite(lambda) && std::isfinite(mu) && mu > 0.0 && 3 * lambda + 2 * mu > 0.0))
+    error->all(FLERR, "{}: W = '{}' linearizes to shear modulus mu = {:.6g} and bulk modulus "
+               "K = {:.6g} at F = I; a solid needs both finite and > 0", where, s.energy, mu,
+               lambda + 2.0 * mu / 3.0);
   if (!(std::abs(E_w - E) <= 1e-3 * E) || !(std::abs(nu_w - nu) <= 1e-3)) {
     // the constants it was evaluated with: a param may replace the formula's own
     std::string with;
@@ -392,4 +402,27 @@ void NospdUserMaterials::read_restart(FILE *fp)
     s.nstatev = read_int();
     specs[i] = s;
   }
+  restored = specs;
+}
+
+/* ----------------------------------------------------------------------
+   the first run after a restart: a UMAT type whose NSTATV differs from the
+   file's would read its state variables at the wrong places; another
+   library with the same count may be a rebuilt one (warned)
+------------------------------------------------------------------------- */
+
+void NospdUserMaterials::check_restored(int itype)
+{
+  if (itype >= (int) restored.size() || restored[itype].library.empty()) return;
+  const Spec &was = restored[itype], &now = specs[itype];
+  if (was.nstatev != now.nstatev)
+    error->all(FLERR, "pair_coeff ({}) type {}: the restart file's state comes from UMAT {} with "
+               "statev {}, but this run declares statev {} (UMAT {}): its state variables would "
+               "be read at the wrong places; keep the UMAT and its statev", force->pair_style,
+               itype, was.library, was.nstatev, now.nstatev, now.library);
+  if ((was.library != now.library || symbol(itype) != (was.symbol.empty() ? "umat_" : was.symbol)) &&
+      comm->me == 0)
+    error->warning(FLERR, "pair_coeff ({}) type {}: the restart file's state variables were "
+                   "written by UMAT {}, this run reads them with {}", force->pair_style, itype,
+                   was.library, now.library);
 }

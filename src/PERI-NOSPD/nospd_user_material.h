@@ -73,6 +73,9 @@ class NospdUserMaterials : protected Pointers {
 
  private:
   std::vector<Spec> specs;
+  // the definitions a restart file brought, held against the first run's
+  // (a UMAT's state variables are only meaningful to the UMAT that wrote them)
+  std::vector<Spec> restored;
   std::vector<std::unique_ptr<NOSPD::FormulaLaw>> formulas;
   std::vector<NOSPD::UmatMaterial> umats;
   std::vector<int> umat_open;
@@ -80,6 +83,7 @@ class NospdUserMaterials : protected Pointers {
 
   void setup_formula(int itype, NOSPD::Plane plane, NOSPD::Lame &lame, double E, double nu);
   void setup_umat(int itype, NOSPD::Law law, NOSPD::Plane plane, const std::string &name);
+  void check_restored(int itype);
   void *open_library(int itype, std::string &path);
 };
 

@@ -21,6 +21,7 @@
 #include "variable.h"
 
 #include "nospd_bond_sums.h"
+#include "nospd_input.h"
 #include "nospd_simd.h"
 #include "nospd_threads.h"
 
@@ -198,7 +199,7 @@ void PairPeriNospd::settings(int narg, char **arg)
       else if (v == "silling" || v == "hourglass") {
         if (iarg >= narg) error->all(FLERR, "{}: stabilization {} needs a value", cmd, v);
         stab = (v == "silling") ? Stab::SILLING : Stab::HOURGLASS;
-        stab_param = utils::numeric(FLERR, arg[iarg], false, lmp);
+        stab_param = NOSPD_INPUT::real(error, cmd, "stabilization " + v, arg[iarg]);
         if (!(stab_param > 0.0))
           error->all(FLERR, "{}: stabilization {} value must be > 0, got {}", cmd, v, arg[iarg]);
         iarg++;
@@ -229,13 +230,13 @@ void PairPeriNospd::settings(int narg, char **arg)
       iarg += 2;
     } else if (key == "thickness") {
       need(1);
-      thickness = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
+      thickness = NOSPD_INPUT::real(error, cmd, key, arg[iarg + 1]);
       if (!(thickness > 0.0)) error->all(FLERR, "{}: thickness must be > 0, got {}", cmd, arg[iarg + 1]);
       thickness_given = true;
       iarg += 2;
     } else if (key == "singular_tol" || key == "damaged_tol") {
       need(1);
-      const double tol = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
+      const double tol = NOSPD_INPUT::real(error, cmd, key, arg[iarg + 1]);
       if (!(tol > 0.0 && tol < 1.0))
         error->all(FLERR, "{}: {} must be in (0,1), got {}", cmd, key, arg[iarg + 1]);
       (key == "singular_tol" ? singular_tol : damaged_tol) = tol;
@@ -243,7 +244,7 @@ void PairPeriNospd::settings(int narg, char **arg)
       iarg += 2;
     } else if (key == "damaged_leverage") {
       need(1);
-      damaged_leverage = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
+      damaged_leverage = NOSPD_INPUT::real(error, cmd, key, arg[iarg + 1]);
       if (!(damaged_leverage > 0.0 && damaged_leverage <= 1.0))
         error->all(FLERR, "{}: damaged_leverage must be in (0,1] (1: no limit), got {}", cmd,
                    arg[iarg + 1]);
@@ -287,6 +288,13 @@ void PairPeriNospd::settings(int narg, char **arg)
   if (domain->dimension == 3) plane_mode = Plane::NONE;
 }
 
+/* ---------------------------------------------------------------------- */
+
+std::string PairPeriNospd::not_a_potential() const
+{
+  return stab == Stab::HOURGLASS ? "stabilization hourglass is not a potential" : "";
+}
+
 /* ----------------------------------------------------------------------
    Poisson's ratio against the plane and strain settings: at pair_coeff and
    again at init, since a later pair_style line may change those settings
@@ -323,7 +331,7 @@ void PairPeriNospd::coeff(int narg, char **arg)
   utils::bounds(FLERR, arg[1], 1, atom->ntypes, jlo, jhi, error);
 
   const int idelta = (narg == 3) ? 2 : 4;
-  const double delta = utils::numeric(FLERR, arg[idelta], false, lmp);
+  const double delta = NOSPD_INPUT::real(error, cmd, "horizon delta", arg[idelta]);
   if (!(delta > 0.0)) error->all(FLERR, "{}: horizon delta must be > 0, got {}", cmd, arg[idelta]);
 
   bool has_material = (narg >= 5);
@@ -418,17 +426,22 @@ void PairPeriNospd::parse_inelastic(const std::vector<std::string> &words, NOSPD
     error->all(FLERR, "{}: hardening applies to a yield stress (keyword yield); johnson_cook "
                "has its own (B, n)", where);
   us.listed.clear();    // this list's params may replace the file's, not each other
+  std::vector<std::string> seen;    // keywords of this list (param has its own rule)
   size_t k = 0;
   while (k < words.size()) {
     const std::string key = words[k];
+    if (key != "param") {
+      if (std::find(seen.begin(), seen.end(), key) != seen.end())
+        error->all(FLERR, "{}: keyword {} given twice in one list (a later pair_coeff line may "
+                   "override a material file's, but one list names each keyword once)", where, key);
+      seen.push_back(key);
+    }
     auto values = [&](size_t n) {
       if (k + n >= words.size())
         error->all(FLERR, "{}: keyword {} needs {} value(s)", where, key, n);
       std::vector<double> v(n);
       for (size_t m = 0; m < n; m++) {
-        if (!utils::is_double(words[k + 1 + m]))
-          error->all(FLERR, "{}: keyword {} expects a number, got '{}'", where, key, words[k + 1 + m]);
-        v[m] = std::stod(words[k + 1 + m]);
+        v[m] = NOSPD_INPUT::real(error, where, "keyword " + key, words[k + 1 + m]);
       }
       k += n + 1;
       return v;
@@ -502,6 +515,16 @@ void PairPeriNospd::parse_inelastic(const std::vector<std::string> &words, NOSPD
       const auto v = values(5);
       th.failure = true;
       for (int m = 0; m < 5; m++) th.D[m] = v[m];
+      // D1 + D2 exp(D3 s*) at the reference rate and temperature, in pure
+      // shear (s* = 0) and uniaxial tension (s* = 1/3): a failure strain <= 0
+      // there breaks every yielding bond at its first plastic increment
+      for (double sstar : {0.0, 1.0 / 3.0}) {
+        const double ef = v[0] + v[1] * std::exp(v[2] * sstar);
+        if (!(ef > 0.0))
+          error->all(FLERR, "{}: jc_failure D1..D5 = {} {} {} {} {} give a failure strain {:.6g} "
+                     "<= 0 at triaxiality {:.3g} (D1 + D2 exp(D3 s*)): every yielding point "
+                     "would fail at once", where, v[0], v[1], v[2], v[3], v[4], ef, sstar);
+      }
     } else if (!user_materials->parse(words, k, us, where))
       error->all(FLERR, "{}: unknown keyword '{}' (yield, hardening, kinematic, johnson_cook, "
                  "thermal, heat, jc_failure, energy, param, umat, symbol, props, statev)",
@@ -645,6 +668,8 @@ class MaterialFile {
   }
   bool next(FileEntry &entry);
   void numbers(const FileEntry &entry, double *vals) const;
+  void check_quotes(const FileEntry &entry) const;
+  [[noreturn]] void entry_error(const FileEntry &entry, const std::string &what) const;
 
  private:
   LAMMPS *lmp;
@@ -653,7 +678,6 @@ class MaterialFile {
   int line = 0;
   void open();
   void check_header(const std::string &path);
-  [[noreturn]] void entry_error(const FileEntry &entry, const std::string &what) const;
 };
 
 void MaterialFile::open()
@@ -711,15 +735,40 @@ bool MaterialFile::next(FileEntry &entry)
   return false;
 }
 
-// E, nu, density, G0 of an entry; inf and nan pass (the caller names them)
+// E, nu, density, G0 of an entry: finite numbers in a double's range
 void MaterialFile::numbers(const FileEntry &entry, double *vals) const
 {
   for (int k = 0; k < MATERIAL_WORDS - 1; k++) {
     const std::string &w = entry.words[k + 1];
-    if (!parses_as_number(w.c_str()))
-      entry_error(entry, fmt::format("{} = '{}' is not a number", MATERIAL_FIELDS[k], w));
-    vals[k] = strtod(w.c_str(), nullptr);
+    const NOSPD::Parsed p = NOSPD::parse_real(w, vals[k]);
+    if (p == NOSPD::Parsed::NOT_FINITE) vals[k] = strtod(w.c_str(), nullptr);    // named later
+    else if (p != NOSPD::Parsed::OK)
+      entry_error(entry, fmt::format("{} = '{}' is {}", MATERIAL_FIELDS[k], w,
+                                     p == NOSPD::Parsed::NOT_A_NUMBER ? "not a number"
+                                                                      : NOSPD::parse_reason(p)));
   }
+}
+
+// a quote opened in an entry's keywords closes in the same entry: an
+// unclosed one would take the rest of the entry into one word (an energy
+// formula that Lepton could only refuse at the first run)
+void MaterialFile::check_quotes(const FileEntry &entry) const
+{
+  std::string text;    // the keywords as split_quoted() reads them
+  for (size_t k = MATERIAL_WORDS; k < entry.words.size(); k++) text += entry.words[k] + " ";
+  char open = 0;
+  size_t at = 0;
+  for (size_t c = 0; c < text.size(); c++) {
+    if (open && text[c] == open) open = 0;
+    else if (!open && (text[c] == '"' || text[c] == '\'')) {
+      open = text[c];
+      at = c;
+    }
+  }
+  if (open)
+    entry_error(entry, fmt::format("the quote {} before '{}' is never closed (a quoted keyword "
+                                   "value ends within its entry)", open,
+                                   utils::trim(text.substr(at + 1, 24))));
 }
 
 void MaterialFile::entry_error(const FileEntry &entry, const std::string &what) const
@@ -748,9 +797,15 @@ PairPeriNospd::FileMaterial PairPeriNospd::read_material_file(const std::string 
   if (comm->me == 0) {
     MaterialFile reader(lmp, file, cmd);
     FileEntry e;
-    while (!where[0] && reader.next(e)) {
+    // the whole file: a name defined twice is ambiguous, not "first wins"
+    while (reader.next(e)) {
       if (e.words[0] != name) continue;
+      if (where[0])
+        reader.entry_error(e, fmt::format("material '{}' is defined twice in the file (lines {} "
+                                          "and {}): rename or remove one", name, where[1],
+                                          e.first));
       reader.numbers(e, vals);
+      reader.check_quotes(e);
       for (size_t k = MATERIAL_WORDS; k < e.words.size(); k++) rest += e.words[k] + " ";
       where[0] = 1;
       where[1] = e.first;
@@ -816,9 +871,7 @@ void PairPeriNospd::check_modulus(const std::string &where, double E) const
 
 double PairPeriNospd::inline_number(const std::string &cmd, const char *what, const char *arg) const
 {
-  if (parses_as_number(arg) && !std::isfinite(strtod(arg, nullptr)))
-    error->all(FLERR, "{}: {} must be finite, got {}", cmd, what, arg);
-  return utils::numeric(FLERR, arg, false, lmp);
+  return NOSPD_INPUT::real(error, cmd, what, arg);
 }
 
 /* ---------------------------------------------------------------------- */
@@ -861,6 +914,13 @@ void PairPeriNospd::init_style()
   if (dim == 2 && domain->zperiodic == 0)
     error->all(FLERR, "{}: 2D runs need a periodic z", cmd);
   warn_barostats(cmd);
+  // CG and its line searches assume f = -grad pe: say once when it is not
+  const std::string why = not_a_potential();
+  if (update->whichflag == 2 && !why.empty() && !minimize_warned && comm->me == 0)
+    error->warning(FLERR, "minimize with {} ({}): CG and the line searches need forces that "
+                   "are the gradient of the energy; use min_style fire (or damped dynamics)",
+                   cmd, why);
+  if (update->whichflag == 2 && !why.empty()) minimize_warned = true;
 
   // the types this style owns: under pair hybrid, only those given to it
   active.assign(atom->ntypes + 1, 0);
@@ -1436,11 +1496,18 @@ void PairPeriNospd::fill_base_temperature()
   } else {
     for (int i = 0; i < nlocal; i++) temperature_base[i] = thermal[type[i]].T_ref;
   }
-  for (int i = 0; i < nlocal; i++)
-    if (inelastic[type[i]] && !std::isfinite(temperature_base[i]))
-      error->one(FLERR, "pair_style {}: atom {} has temperature {} from {}{}", force->pair_style,
-                 atom->tag[i], temperature_base[i],
-                 temperature_kind == TEMP_VARIABLE ? "v_" : "d_", temperature_name);
+  // the plastic and thermal laws read an absolute temperature (T_ref > 0 is
+  // already required); a UMAT may take any scale, but not a non-finite one
+  for (int i = 0; i < nlocal; i++) {
+    const double T = temperature_base[i];
+    const bool absolute = inelastic[type[i]] == POINT_PLASTIC;
+    if (inelastic[type[i]] && !(std::isfinite(T) && (T > 0.0 || !absolute)))
+      error->one(FLERR, "pair_style {}: step {}: atom {} has temperature {} from {}{}{}",
+                 force->pair_style, update->ntimestep, atom->tag[i], T,
+                 temperature_kind == TEMP_VARIABLE ? "v_" : "d_", temperature_name,
+                 std::isfinite(T) ? " (the temperature of a plastic or thermal law is absolute: "
+                                    "it must be > 0)" : "");
+  }
 }
 
 /* ---------------------------------------------------------------------- */

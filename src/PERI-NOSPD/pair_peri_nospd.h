@@ -231,6 +231,10 @@ class PairPeriNospd : public Pair {
   virtual std::function<void(std::vector<double> &)> family_row_bound() { return {}; }
   // the multiple of that bound the estimate takes (its measured slack)
   virtual double bound_margin() const { return 2.0; }
+  // what makes the forces of this setting no gradient of an energy ("" if
+  // they are one), for the warning at the setup of minimize
+  virtual std::string not_a_potential() const;
+  bool minimize_warned = false;
   void check_one_plane(double spacing);
   void fill_base_temperature();
   void inelastic_failure(int i, NOSPD::ReturnStatus st, const NOSPD::Mat3 &F) const;

@@ -16,6 +16,7 @@
 #include "neighbor.h"
 #include "update.h"
 
+#include "nospd_input.h"
 #include "nospd_simd.h"
 
 #include <algorithm>
@@ -186,7 +187,7 @@ void PairPeriNospdHS::settings(int narg, char **arg)
         error->all(FLERR, "{}: stencil must be yes or no, got '{}'", cmd, val);
       stencil_on = val == "yes";
     } else if (key == "ratio") {
-      hs_ratio = utils::numeric(FLERR, val, false, lmp);
+      hs_ratio = NOSPD_INPUT::real(error, cmd, key, val);
       if (!(hs_ratio > 0.0))
         error->all(FLERR, "{}: ratio must be > 0, got {}", cmd, val);
     } else if (key == "stabilization") {
@@ -222,6 +223,14 @@ void PairPeriNospdHS::settings(int narg, char **arg)
   pattern_lookup.clear();
   mapped_version = -1;
   stencil_law.clear();
+}
+
+/* ---------------------------------------------------------------------- */
+
+std::string PairPeriNospdHS::not_a_potential() const
+{
+  if (hs_form == NOSPD::HSForm::I) return "form I is not a potential";
+  return PairPeriNospd::not_a_potential();
 }
 
 /* ---------------------------------------------------------------------- */

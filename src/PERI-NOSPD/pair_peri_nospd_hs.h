@@ -58,6 +58,7 @@ class PairPeriNospdHS : public PairPeriNospd {
   virtual int bond_defgrad(int i, int b, double *F);
 
   NOSPD::HSForm form() const { return hs_form; }
+  std::string not_a_potential() const override;
   double ratio() const { return hs_ratio; }
   bigint singular_bond_families() const { return nsingular_bonds; }
   int pattern_count() const { return (int) patterns.size(); }

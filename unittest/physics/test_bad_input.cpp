@@ -22,6 +22,11 @@ class BadInput : public ::testing::Test {
   LAMMPS *lmp = nullptr;
   void SetUp() override { lmp = open_lammps(); }
   void TearDown() override { delete lmp; }
+  void fresh()
+  {
+    delete lmp;
+    lmp = open_lammps();
+  }
 
   // a valid 3D deck up to (not including) the pair style, all atoms of type 1
   void deck(const std::string &atom_style = "peri", bool map = true,
@@ -702,6 +707,76 @@ TEST_F(BadInput, DamageStretchNotPositive)
 {
   EXPECT_THAT(error_after_steel("fix d all nospd/damage stretch -0.001"),
               HasSubstr("critical stretch must be > 0, got -0.001"));
+}
+
+/* Numbers out of a double's range and counts out of an int's are errors
+   that name the command, the keyword and the word (once an uncaught
+   std::out_of_range from std::stod, or a count of 2^31 wrapped to a
+   negative int that the run then used as an array size) */
+TEST_F(BadInput, OutOfRangeNumbersNamed)
+{
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"* * 200e9 0.3 0.003 yield 1e999", "keyword yield expects a number, got 1e999: beyond"},
+      {"* * 200e9 0.3 0.003 yield 1e-400", "keyword yield expects a number, got 1e-400: below"},
+      {"* * 200e9 0.3 0.003 yield 250e6 hardening linear 1e400",
+       "keyword hardening expects a number, got 1e400"},
+      {"* * 1e999 0.3 0.003", "Young's modulus E expects a number, got 1e999"},
+      {"* * 200e9 0.3 1e-400", "horizon delta expects a number, got 1e-400"},
+  };
+  for (const auto &c : cases) {
+    fresh();
+    EXPECT_THAT(pair_coeff_error(c.first), HasSubstr(c.second)) << c.first;
+  }
+  // a material file's numbers and keywords alike
+  fresh();
+  EXPECT_THAT(file_material_error("foo 1e999 0.3 7850 100\n"),
+              HasSubstr("E = '1e999' is beyond the largest double"));
+  fresh();
+  EXPECT_THAT(file_material_error("foo 210e9 0.3 7850 100 yield 1e999\n"),
+              HasSubstr("material foo in nospd_bad_input_test.nospd: keyword yield expects a "
+                        "number, got 1e999"));
+  for (const char *count : {"2147483648", "4294967297", "-1", "1e20", "2.5"}) {
+    fresh();
+    EXPECT_THAT(pair_coeff_error(std::string("* * 200e9 0.3 0.003 umat libx.so statev ") + count),
+                HasSubstr(std::string("keyword statev expects an integer in [0, 10000], got ") +
+                          (count[1] == 'e' || count[1] == '.' ? "'" : "") + count))
+        << count;
+    fresh();
+    EXPECT_THAT(pair_coeff_error(std::string("* * 200e9 0.3 0.003 umat libx.so props ") + count +
+                                 " 1 2"),
+                HasSubstr("keyword props expects an integer in [0, 10000]"))
+        << count;
+  }
+  fresh();
+  EXPECT_THAT(error_after_steel("fix d all nospd/damage stretch 0.01 every 2147483648"),
+              HasSubstr("fix nospd/damage: every expects an integer"));
+  fresh();
+  EXPECT_THAT(error_after_steel("fix d all nospd/damage stretch 1e999"),
+              HasSubstr("fix nospd/damage: stretch expects a number, got 1e999"));
+}
+
+/* a material file's entry is unambiguous: a quote opened in its keywords
+   closes within it (an unclosed one swallowed the rest of the entry into
+   an energy formula that failed only at run), its name appears once in the
+   file, and one list names each keyword once */
+TEST_F(BadInput, MaterialFileEntryAmbiguities)
+{
+  EXPECT_THAT(file_material_error("foo 210e9 0.3 7850 100 energy \"0.5*mu*(I1-3) param mu 1\n"),
+              HasSubstr("material file nospd_bad_input_test.nospd, entry 'foo' (line 2): the "
+                        "quote \" before '0.5*mu*(I1-3) param mu"));
+  fresh();
+  EXPECT_THAT(file_material_error("foo 210e9 0.3 7850 100\nbar 1e9 0.2 1000 1\n"
+                                  "foo 100e9 0.3 7850 100\n"),
+              HasSubstr("entry 'foo' (line 4): material 'foo' is defined twice in the file "
+                        "(lines 2 and 4)"));
+  fresh();
+  EXPECT_THAT(file_material_error("foo 210e9 0.3 7850 100 yield 250e6 yield 300e6\n"),
+              HasSubstr("keyword yield given twice in one list"));
+  fresh();
+  EXPECT_THAT(pair_coeff_error("* * 200e9 0.3 0.003 yield 250e6 thermal 1e-5 293 thermal 1e-5 300"),
+              HasSubstr("keyword thermal given twice in one list"));
+  fresh();
+  EXPECT_EQ(file_material_error("foo 210e9 0.3 7850 100 yield 250e6\nbar 1e9 0.2 1000 1\n"), "");
 }
 
 }    // namespace

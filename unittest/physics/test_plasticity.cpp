@@ -118,27 +118,49 @@ TEST_P(Inelastic, ThermalFreeBlockIsForceFree)
 // A temperature where the thermal law is undefined (a stretch
 // 1 + alpha dT <= 0 under Hencky, a thermal strain of 100 % or more under
 // small strain) is an error that says so, not a return mapping that "did
-// not converge" (hostile sweep N); 1 + alpha dT = -0.2 and 6.
+// not converge" (hostile sweep N); 1 + alpha dT = -0.2 (alpha 0.01, the
+// temperature still absolute) and 6.
 TEST_P(Inelastic, ThermalStretchOutsideTheLawIsNamed)
 {
   for (std::string law : {"small", "hencky"}) {
-    for (double dT : {-1e5, 5.0 / ALPHA}) {
+    for (double dT : {-120.0, 5.0 / ALPHA}) {
       delete lmp;
       lmp = open_lammps();
-      block("strain " + law + " temperature v_T", "thermal 1.2e-5 293");
+      block("strain " + law + " temperature v_T",
+            dT < 0.0 ? "thermal 0.01 293" : "thermal 1.2e-5 293");
       cmd(lmp, "variable T atom " + num(293.0 + dT));
       const std::string msg = error_of(lmp, "run 0");
       if (law == "hencky" && dT > 0.0) {
         EXPECT_EQ(msg, "") << "a stretch of 6 is defined";
         continue;
       }
-      EXPECT_THAT(msg, HasSubstr(dT < 0.0 ? "has temperature -99707," : "has temperature 416960,"))
+      EXPECT_THAT(msg, HasSubstr(dT < 0.0 ? "has temperature 173," : "has temperature 416960,"))
           << law;
       EXPECT_THAT(msg, HasSubstr(law == "small" ? "thermal strain alpha (T - T_ref) of type 1"
                                                 : "thermal stretch 1 + alpha (T - T_ref) of type 1"))
           << law;
     }
   }
+}
+
+// The temperature of a plastic or thermal law is absolute: a per-atom
+// temperature at or below zero stops the run, naming the step, the atom and
+// the value, whether it starts there or a variable reaches it during the
+// run (295 - 1e10 t is -5 K at step 30 of 1 ns).
+TEST_P(Inelastic, NonPositiveTemperatureStopsTheRun)
+{
+  const std::string jc = "johnson_cook 792e6 510e6 0.26 0.014 1.0 1.03 293 1793";
+  block("strain small temperature v_T", jc);
+  cmd(lmp, "variable T atom -50");
+  std::string msg = error_of(lmp, "run 0");
+  EXPECT_THAT(msg, HasSubstr("step 0: atom 1 has temperature -50 from v_T"));
+  EXPECT_THAT(msg, HasSubstr("absolute"));
+  delete lmp;
+  lmp = open_lammps();
+  block("strain hencky temperature v_T", jc + " thermal 1.2e-5 293");
+  cmd(lmp, "variable T atom 295-1e10*time");
+  msg = error_of(lmp, "run 100");
+  EXPECT_THAT(msg, HasSubstr("step 30: atom 1 has temperature -5")) << msg;
 }
 
 // A clamped heated body (periodic: no surface) carries
@@ -805,6 +827,46 @@ TEST_F(InelasticBadInput, MinimizeDefaultDmaxNamed)
   cmd(lmp, "displace_atoms all random 2e-6 2e-6 2e-6 4411 units box");
   EXPECT_THAT(error_of(lmp, "minimize 0.0 1e-12 100 1000"), HasSubstr("min_modify dmax"));
 }
+// a Johnson-Cook failure strain <= 0 in shear or uniaxial tension would
+// break every yielding bond at once
+TEST_F(InelasticBadInput, JohnsonCookFailureStrainNotPositive)
+{
+  const std::string jc = "johnson_cook 300e6 500e6 0.3 0.01 1.0 1.0 250 1800 jc_failure ";
+  EXPECT_THAT(coeff_error("", jc + "-0.5 0.2 1 0 0"),
+              HasSubstr("give a failure strain -0.3 <= 0 at triaxiality 0"));
+  delete lmp;
+  lmp = open_lammps();
+  EXPECT_THAT(coeff_error("", jc + "0.1 -0.2 1 0 0"),
+              HasSubstr("<= 0 at triaxiality 0"));
+  delete lmp;
+  lmp = open_lammps();
+  // Ti-6Al-4V's (D1 < 0) is positive in shear and tension
+  EXPECT_EQ(coeff_error("", jc + "-0.09 0.25 -0.5 0.014 3.87"), "");
+}
+
+// minimize with forces that are no energy gradient warns once, naming FIRE
+TEST_F(InelasticBadInput, MinimizeWithoutPotentialWarns)
+{
+  Block b;
+  b.n = 6;
+  b.settings = "stabilization hourglass 0.2";
+  make_block(lmp, b);
+  cmd(lmp, "min_modify dmax 1e-6");
+  cmd(lmp, "displace_atoms all random 1e-7 1e-7 1e-7 4411 units box");
+  const std::string log = log_of(lmp, {"minimize 0.0 1e-12 5 20", "minimize 0.0 1e-12 5 20"});
+  EXPECT_THAT(log, HasSubstr("stabilization hourglass is not a potential): CG and the line "
+                             "searches need forces that are the gradient of the energy; use "
+                             "min_style fire"));
+  const auto first = log.find("not a potential");
+  EXPECT_EQ(log.find("not a potential", first + 1), std::string::npos) << "warned once";
+  delete lmp;
+  lmp = open_lammps();
+  b.settings = "";
+  make_block(lmp, b);
+  cmd(lmp, "min_modify dmax 1e-6");
+  EXPECT_EQ(log_of(lmp, {"minimize 0.0 1e-12 5 20"}).find("not a potential"), std::string::npos);
+}
+
 TEST_F(InelasticBadInput, HeatWithoutPlasticity)
 {
   EXPECT_THAT(coeff_error("", "heat 450 0.9"), HasSubstr("heat and jc_failure need plasticity"));

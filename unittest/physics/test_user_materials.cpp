@@ -293,6 +293,13 @@ TEST(UserFormula, BadInput)
   EXPECT_THAT(error_of_deck("strain formula", ""), HasSubstr("strain formula needs an energy for type 1"));
   EXPECT_THAT(error_of_deck("strain small", std::string("energy \"") + NEOHOOKE_W + "\"" + lame_params()),
               HasSubstr("neither formula nor umat"));
+  // a linearization that no solid has is an error, not a mismatch warning
+  EXPECT_THAT(error_of_deck("strain formula", std::string("energy \"") + NEOHOOKE_W +
+                                                 "\" param lambda 1e9 param mu -7e10"),
+              HasSubstr("linearizes to shear modulus mu = -7e+10"));
+  EXPECT_THAT(error_of_deck("strain formula", std::string("energy \"") + NEOHOOKE_W +
+                                                 "\" param lambda -3e11 param mu 7e10"),
+              HasSubstr("a solid needs both finite and > 0"));
   EXPECT_THAT(error_of_deck("strain formula", "energy \"1e9*(I1-3)\" param 3x 1"),
               HasSubstr("param name '3x' is not a valid name"));
   EXPECT_THAT(error_of_deck("strain formula", std::string("energy \"") + NEOHOOKE_W + "\"" +
@@ -456,6 +463,7 @@ struct UmatRun {
   std::vector<std::array<double, 3>> x, f;
   std::vector<double> eqps;
   double pe;
+  double work, work_column;    // the bonds fix's plastic work, compute nospd/atom's column summed
 };
 
 UmatRun run_dynamic(int dim, const std::string &settings, const std::string &coeff, int steps,
@@ -490,6 +498,14 @@ UmatRun run_dynamic(int dim, const std::string &settings, const std::string &coe
     cmd(lmp, "run " + std::to_string(steps));
   }
   UmatRun r;
+  // compute nospd/atom plastic_work sums to the bonds fix's global plastic
+  // work for every law, a UMAT's SPD + SCD included
+  cmd(lmp, "compute pw all nospd/atom plastic_work");
+  auto *pw = lmp->modify->get_compute_by_id("pw");
+  pw->compute_peratom();
+  r.work = lmp->modify->get_fix_by_id("NOSPD_BONDS")->compute_vector(3);
+  r.work_column = 0.0;
+  for (int i = 0; i < lmp->atom->nlocal; i++) r.work_column += pw->array_atom[i][0];
   r.x = by_tag(lmp, lmp->atom->x);
   r.f = by_tag(lmp, lmp->atom->f);
   r.pe = potential_energy(lmp);
@@ -532,6 +548,39 @@ TEST(UserUmat, ElasticMatchesSmallStrain)
   }
 }
 
+// a run continued from a restart reads the stored STATEV only with the
+// count that wrote them: another count is an error naming both
+TEST(UserUmat, RestartWithAnotherStatevCountIsAnError)
+{
+  const std::string file = "umat_statev_" + std::to_string(getpid()) + ".restart";
+  LAMMPS *lmp = open_lammps();
+  Block b;
+  b.n = 5;
+  b.settings = "strain umat";
+  make_block(lmp, b);
+  const std::string coeff = "pair_coeff * * " + num(E) + " " + num(NU) + " " + num(b.delta());
+  cmd(lmp, coeff + " umat " + umat_lib("umat_j2.so") + " props 4 " + num(E) + " " + num(NU) +
+               " 3e8 2e10 statev 7");
+  cmd(lmp, "run 0");
+  cmd(lmp, "write_restart " + file);
+  delete lmp;
+  for (int statev : {7, 9}) {
+    lmp = open_lammps();
+    cmd(lmp, "read_restart " + file);
+    cmd(lmp, coeff + " umat " + umat_lib("umat_elastic.so") + " props 2 " + num(E) + " " +
+                 num(NU) + " statev " + std::to_string(statev));
+    if (statev == 9) {
+      EXPECT_THAT(error_of(lmp, "run 0"),
+                  HasSubstr("umat_j2.so with statev 7, but this run declares statev 9"));
+    } else {
+      EXPECT_THAT(log_of(lmp, {"run 0"}),
+                  HasSubstr("the restart file's state variables were written by UMAT"));
+    }
+    delete lmp;
+  }
+  std::remove(file.c_str());
+}
+
 TEST(UserUmat, J2MatchesBuiltinWithRestart)
 {
   const std::string j2 = "yield 3e8 hardening linear 2e10";
@@ -545,6 +594,10 @@ TEST(UserUmat, J2MatchesBuiltinWithRestart)
     for (double e : ref.eqps) emax = std::max(emax, e);
     ASSERT_GT(emax, 1e-4) << "the run must yield";
     expect_same_run(ref, um, 1e-10);
+    for (const UmatRun *r : {&ref, &um}) {
+      EXPECT_GT(r->work, 0.0);
+      EXPECT_NEAR(r->work_column, r->work, 1e-12 * r->work);
+    }
     // restart split: the state variables travel through the restart file
     const auto split = run_dynamic(dim, "strain umat", umat, 60, "umat_split.restart");
     expect_same_run(um, split, 1e-12);
@@ -572,6 +625,10 @@ TEST(UserUmat, BondAssociatedMatchesBuiltin)
     for (double e : ref.eqps) emax = std::max(emax, e);
     ASSERT_GT(emax, 1e-4) << "the run must yield";
     expect_same_run(ref, um, 1e-10);
+    for (const UmatRun *r : {&ref, &um}) {
+      EXPECT_GT(r->work, 0.0);
+      EXPECT_NEAR(r->work_column, r->work, 1e-12 * r->work);
+    }
     const auto split = run_dynamic(dim, "strain umat form II", umat, 40, "umat_hs_split.restart", hs);
     expect_same_run(um, split, 1e-12);
   }
@@ -605,6 +662,15 @@ TEST(UserUmat, BadInput)
                                              "NSTATV = " + std::to_string(declared)),
                                    ::testing::ContainsRegex("at atom [0-9]+ on step 0")))
           << style;
+  // ... also one that accumulates into the slots past NSTATV (STATEV(I) =
+  // STATEV(I) + I), which a NaN guard would survive unchanged
+  for (const char *style : {"peri/nospd", "peri/nospd/hs"})
+    EXPECT_THAT(error_of_deck("strain umat", "umat " + umat_lib("umat_elastic.so") +
+                                                 " props 5 200e9 0.3 0 6 1 statev 2", style),
+                HasSubstr("wrote past its NSTATV = 2"))
+        << style;
+  EXPECT_EQ(error_of_deck("strain umat", "umat " + umat_lib("umat_elastic.so") +
+                                             " props 5 200e9 0.3 0 2 1 statev 2"), "");
   EXPECT_EQ(error_of_deck("strain umat", "umat " + umat_lib("umat_elastic.so") +
                                              " props 4 200e9 0.3 0 2 statev 2"), "");
   EXPECT_THAT(error_of_deck("strain umat plane stress",

@@ -2,7 +2,8 @@ c     Isotropic linear elasticity as an Abaqus UMAT, for the tests of
 c     PERI-NOSPD's strain umat (the built-in strain small law is the
 c     reference).  PROPS(1) = E, PROPS(2) = nu; PROPS(3) /= 0 makes it
 c     return a NaN stress (the bad-output check); PROPS(4) = n makes it
-c     write STATEV(1..n) whatever NSTATV is (the overflow check).  Works for NTENS = 6
+c     write STATEV(1..n) whatever NSTATV is (the overflow check),
+c     adding I to STATEV(I) instead when PROPS(5) /= 0.  Works for NTENS = 6
 c     (3D) and NTENS = 4 (plane strain).  SSE by the trapezoidal rule,
 c     exact for a linear law.
       subroutine umat(stress,statev,ddsdde,sse,spd,scd,
@@ -51,8 +52,16 @@ c     exact for a linear law.
         end if
       end if
       if (nprops .ge. 4) then
+        iacc = 0
+        if (nprops .ge. 5) then
+          if (props(5) .ne. 0.d0) iacc = 1
+        end if
         do i = 1, int(props(4))
-          statev(i) = 1.d0
+          if (iacc .eq. 1) then
+            statev(i) = statev(i) + dble(i)
+          else
+            statev(i) = 1.d0
+          end if
         end do
       end if
       return
