@@ -713,6 +713,31 @@ void FixNospdBonds::follow_box()
   for (int k = 0; k < 6; k++) last_h[k] = h[k];
 }
 
+/* ---------------------------------------------------------------------- */
+
+void FixNospdBonds::reference_bond(const double *x0i, const double *x0j, double *xi) const
+{
+  for (int k = 0; k < 3; k++) xi[k] = x0j[k] - x0i[k];
+  const double *r = ref_box_set ? ref_h : domain->h;
+  // as Domain::minimum_image, in the reference box; each branch adds the
+  // negative of what the mirrored branch adds, so xi(j, i) = -xi(i, j)
+  if (domain->zperiodic)
+    while (std::abs(xi[2]) > 0.5 * r[2]) {
+      const double s = xi[2] < 0.0 ? 1.0 : -1.0;
+      xi[2] += s * r[2];
+      xi[1] += s * r[3];
+      xi[0] += s * r[4];
+    }
+  if (domain->yperiodic)
+    while (std::abs(xi[1]) > 0.5 * r[1]) {
+      const double s = xi[1] < 0.0 ? 1.0 : -1.0;
+      xi[1] += s * r[1];
+      xi[0] += s * r[5];
+    }
+  if (domain->xperiodic)
+    while (std::abs(xi[0]) > 0.5 * r[0]) xi[0] += (xi[0] < 0.0 ? 1.0 : -1.0) * r[0];
+}
+
 static constexpr int RESTART_V2 = 10;
 static constexpr int RESTART_V3 = 20;
 static constexpr double BIG = 1.0e300;
@@ -1246,8 +1271,12 @@ void FixNospdBonds::report_stable_timestep()
   int worst = 0;
   for (int t = 1; t <= ntypes; t++) {
     if (dtall[t] >= BIG) continue;
-    line += fmt::format(" type {} {:.4g} (bond-based {:.4g}", t, dtall[t], dt_bond[t]);
-    line += dt_bound[t] < BIG ? fmt::format(", stiffness bound {:.4g})", dt_bound[t]) : ")";
+    // the estimate is the smaller of its two parts: say how it is made
+    line += fmt::format(" type {} {:.4g}", t, dtall[t]);
+    line += dt_bound[t] < BIG
+        ? fmt::format(" = min(bond-based {:.4g}, {:g} x stiffness bound {:.4g})", dt_bond[t],
+                      model.bound_margin, dt_bound[t])
+        : fmt::format(" (bond-based)");
     if (!worst || dtall[t] < dtall[worst]) worst = t;
   }
   if (!worst) return;

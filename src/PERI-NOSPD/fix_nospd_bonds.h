@@ -200,6 +200,14 @@ class FixNospdBonds : public FixPeriNeigh {
   // written (0: created since, no family)
   int type_of_history(int i) const { return family_type[i]; }
 
+  // the reference bond from a point at x0i to one at x0j: x0j - x0i imaged
+  // in the reference box (the box the families were built in, followed
+  // through flips), the same vector as the pair styles' x0s difference (to
+  // rounding) whatever the box has become since; antisymmetric bit for bit,
+  // so both ends of a bond (on any rank) see exact negatives.  Every
+  // consumer of a reference bond outside the pair's passes takes it here.
+  void reference_bond(const double *x0i, const double *x0j, double *xi) const;
+
   // ---- state read by pair styles, computes and the damage fix ----
   int nbond_atoms;        // owned atoms covered by the CSR arrays (-1: atoms
                           // moved, added or deleted since they were built)

@@ -7,10 +7,13 @@
    for its own slot.  The two decisions agree bit for bit because every
    number that enters them is the same on both ranks:
      - reference bond vectors come from x0, which ghosts carry unshifted,
-       minimum-imaged (an operation symmetric under negation);
+       imaged in the reference box by the bonds fix (reference_bond; an
+       operation symmetric under negation), the reference the forces use
+       however the box has changed since the families were built;
      - displacements u = x - x0 are computed by each atom's owner and
-       forward-communicated unchanged, so Y = xi + (u_j - u_i) is exact on
-       both sides (periodic image shifts never enter);
+       forward-communicated unchanged; the current bond is the current
+       box's minimum image of (x0_j - x0_i) + (u_j - u_i), in which whole
+       box lengths cancel, symmetric under negation too;
      - per-atom tensors (A = P K^-1, stress, strain) and flags are
        forward-communicated from their owners;
      - every bond is evaluated in the order (lower ID, higher ID), and the
@@ -89,6 +92,34 @@ inline void min_image(const Domain *domain, double *d)
   if (domain->zperiodic)
     while (fabs(d[2]) > domain->zprd_half) d[2] += (d[2] < 0.0) ? domain->zprd : -domain->zprd;
 }
+
+}    // namespace
+
+/* ----------------------------------------------------------------------
+   The reference bond xi from end a to end c (the bonds fix's reference
+   geometry), the current bond Y (the minimum image, in the current box, of
+   the raw reference difference plus the raw displacement difference: exact
+   through any box change, since whole box lengths cancel) and U = Y - xi
+   (in a box without periodic dimensions: the displacement difference).
+   Every term is antisymmetric in (a, c) bit for bit.
+------------------------------------------------------------------------- */
+
+void FixNospdDamage::bond_geometry(const double *x0a, const double *x0c, const double *ua,
+                                   const double *uc, bool periodic, double *xi, double *U,
+                                   double *Y) const
+{
+  for (int k = 0; k < 3; k++) {
+    xi[k] = x0c[k] - x0a[k];
+    U[k] = uc[k] - ua[k];
+    Y[k] = xi[k] + U[k];
+  }
+  if (!periodic) return;
+  min_image(domain, Y);
+  bonds->reference_bond(x0a, x0c, xi);
+  for (int k = 0; k < 3; k++) U[k] = Y[k] - xi[k];
+}
+
+namespace {
 
 constexpr int FLAG_NOFAIL = 1;
 constexpr int FLAG_SINGULAR = 2;
@@ -605,15 +636,14 @@ void FixNospdDamage::fill_comm_data()
   const int nlocal = atom->nlocal;
   double **x = atom->x, **x0 = atom->x0;
   const int *mask = atom->mask;
-  const bool periodic = domain->xperiodic || domain->yperiodic || domain->zperiodic;
 
   for (int i = 0; i < nlocal; i++) {
     double *c = cdata[i];
-    double d[3] = {x[i][0] - x0[i][0], x[i][1] - x0[i][1], x[i][2] - x0[i][2]};
-    if (periodic) min_image(domain, d);
-    c[0] = d[0];
-    c[1] = d[1];
-    c[2] = d[2];
+    // raw: whole box lengths of a wrapped atom cancel in the bond's
+    // current vector, imaged in the current box (bond_geometry)
+    c[0] = x[i][0] - x0[i][0];
+    c[1] = x[i][1] - x0[i][1];
+    c[2] = x[i][2] - x0[i][2];
     int flags = 0;
     if (mask[i] & groupbit) flags |= FLAG_INGROUP;
     if ((nofail_groupbit && (mask[i] & nofail_groupbit)) ||
@@ -707,10 +737,8 @@ void FixNospdDamage::evaluate_and_break(bool apply)
           continue;
         }
         const double *ca = cdata[a], *cb = cdata[c];
-        double xi[3] = {x0[c][0] - x0[a][0], x0[c][1] - x0[a][1], x0[c][2] - x0[a][2]};
-        if (periodic) min_image(domain, xi);
-        const double U[3] = {cb[0] - ca[0], cb[1] - ca[1], cb[2] - ca[2]};
-        const double Y[3] = {xi[0] + U[0], xi[1] + U[1], xi[2] + U[2]};
+        double xi[3], U[3], Y[3];
+        bond_geometry(x0[a], x0[c], ca, cb, periodic, xi, U, Y);
         const double rxi2 = xi[0] * xi[0] + xi[1] * xi[1] + xi[2] * xi[2];
         const double ry2 = Y[0] * Y[0] + Y[1] * Y[1] + Y[2] * Y[2];
         double limit = crit[type[a]][type[c]];
@@ -825,9 +853,15 @@ void FixNospdDamage::stretch_cuts(std::vector<std::pair<int, int>> &cut)
           continue;
         }
         double xi[3] = {x0f[3 * j] - xi0, x0f[3 * j + 1] - yi0, x0f[3 * j + 2] - zi0};
-        if (periodic) min_image(domain, xi);
-        const double Yx = xi[0] + (cj[0] - uxi), Yy = xi[1] + (cj[1] - uyi),
-                     Yz = xi[2] + (cj[2] - uzi);
+        double Yx = xi[0] + (cj[0] - uxi), Yy = xi[1] + (cj[1] - uyi), Yz = xi[2] + (cj[2] - uzi);
+        if (periodic) {
+          double Y[3] = {Yx, Yy, Yz};
+          min_image(domain, Y);
+          Yx = Y[0];
+          Yy = Y[1];
+          Yz = Y[2];
+          bonds->reference_bond(x0[i], x0[j], xi);
+        }
         const double rxi2 = xi[0] * xi[0] + xi[1] * xi[1] + xi[2] * xi[2];
         const double ry2 = Yx * Yx + Yy * Yy + Yz * Yz;
         double limit = one_type ? limit1 : crit[type[i]][type[j]];
@@ -896,8 +930,8 @@ void FixNospdDamage::apply_precracks()
       if (!(mask[j] & groupbit)) continue;
       const bool i_lo = tag[i] < tag[j];
       const int a = i_lo ? i : j, c = i_lo ? j : i;
-      double d[3] = {x0[c][0] - x0[a][0], x0[c][1] - x0[a][1], x0[c][2] - x0[a][2]};
-      if (periodic) min_image(domain, d);
+      double d[3];
+      bonds->reference_bond(x0[a], x0[c], d);
       const double A[3] = {x0[a][0], x0[a][1], x0[a][2]};
       const double B[3] = {A[0] + d[0], A[1] + d[1], A[2] + d[2]};
       bool hit = crosses(A, B);
@@ -942,7 +976,6 @@ void FixNospdDamage::contact_forces()
   const int *mask = atom->mask;
   const tagint *tag = atom->tag;
   const double *vfrac = atom->vfrac;
-  const bool periodic = domain->xperiodic || domain->yperiodic || domain->zperiodic;
   const int inum = list->inum;
   const int *ilist = list->ilist;
   const int *numneigh = list->numneigh;
@@ -972,8 +1005,8 @@ void FixNospdDamage::contact_forces()
         const double dx = x[j][0] - x[i][0], dy = x[j][1] - x[i][1], dz = x[j][2] - x[i][2];
         const double rsq = dx * dx + dy * dy + dz * dz;
         if (rsq >= rc2 || rsq == 0.0) continue;
-        double d0[3] = {x0[j][0] - x0[i][0], x0[j][1] - x0[i][1], x0[j][2] - x0[i][2]};
-        if (periodic) min_image(domain, d0);
+        double d0[3];
+        bonds->reference_bond(x0[i], x0[j], d0);
         const double r0 = sqrt(d0[0] * d0[0] + d0[1] * d0[1] + d0[2] * d0[2]);
         const double dij = std::min(0.9 * r0, contact_rc);
         const double r = sqrt(rsq);

@@ -111,6 +111,8 @@ class FixNospdDamage : public Fix {
   void fill_comm_data();
   void evaluate_and_break(bool apply = true);
   void stretch_cuts(std::vector<std::pair<int, int>> &cut);
+  void bond_geometry(const double *x0a, const double *x0c, const double *ua, const double *uc,
+                     bool periodic, double *xi, double *U, double *Y) const;
   void apply_precracks();
   int break_list(std::vector<std::pair<int, int>> &);
   void contact_forces();

@@ -58,6 +58,24 @@ inline int integer(LAMMPS_NS::Error *error, const std::string &where, const std:
   return static_cast<int>(v);
 }
 
+// a type range (N, *, N*, *N, M*N) for utils::bounds, whose std::stol would
+// throw on a word past a long and whose int would wrap one past an int
+inline void check_type_range(LAMMPS_NS::Error *error, const std::string &where,
+                             const std::string &word)
+{
+  size_t from = 0;
+  while (from <= word.size()) {
+    const size_t star = word.find('*', from);
+    const std::string part = word.substr(from, star == std::string::npos ? star : star - from);
+    long long v = 0;
+    if (!part.empty() && NOSPD::parse_integer(part, 1, INT_MAX, v) != NOSPD::Parsed::OK)
+      error->all(FLERR, "{}: atom type range '{}' expects types (N, *, N*, *N, M*N) with N "
+                 "a type from 1, got '{}'", where, word, part);
+    if (star == std::string::npos) break;
+    from = star + 1;
+  }
+}
+
 }    // namespace NOSPD_INPUT
 
 #endif

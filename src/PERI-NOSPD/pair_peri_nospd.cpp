@@ -30,6 +30,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <stdexcept>
 #include <utility>
 #include <vector>
 
@@ -327,6 +328,8 @@ void PairPeriNospd::coeff(int narg, char **arg)
   if (!allocated) allocate();
 
   int ilo, ihi, jlo, jhi;
+  NOSPD_INPUT::check_type_range(error, cmd, arg[0]);
+  NOSPD_INPUT::check_type_range(error, cmd, arg[1]);
   utils::bounds(FLERR, arg[0], 1, atom->ntypes, ilo, ihi, error);
   utils::bounds(FLERR, arg[1], 1, atom->ntypes, jlo, jhi, error);
 
@@ -1489,7 +1492,13 @@ void PairPeriNospd::fill_base_temperature()
   const int nlocal = atom->nlocal;
   const int *type = atom->type;
   if (temperature_kind == TEMP_VARIABLE) {
-    input->variable->compute_atom(temperature_index, 0, temperature_base, 1, 0);
+    // LAMMPS's evaluation lets std::stod's out_of_range out (a constant 1e999)
+    try {
+      input->variable->compute_atom(temperature_index, 0, temperature_base, 1, 0);
+    } catch (std::out_of_range &e) {
+      error->one(FLERR, "pair_style {}: temperature v_{}: a number out of a double's range "
+                 "({})", force->pair_style, temperature_name, e.what());
+    }
   } else if (temperature_kind == TEMP_PROPERTY) {
     const double *t = atom->dvector[temperature_index];
     for (int i = 0; i < nlocal; i++) temperature_base[i] = t[i];

@@ -179,6 +179,49 @@ TEST_P(Periodic, RestartInDeformedBoxThenOtherStyle)
   std::remove(rfile.c_str());
 }
 
+/* A uniform deformation of a periodic body (the box deformed after the
+   families were built: stretched along x, or sheared through its tilt)
+   breaks the same bonds at every point: the damage fix measures each bond
+   against the reference bond the forces use.  It once imaged x0
+   differences in the current box, so the bonds across the boundary looked
+   shorter than they are, and the points next to it lost fewer (damage
+   0.16-0.20 there, 0.31 inside, under a uniform stretch). */
+TEST_P(Periodic, UniformDeformationBreaksBondsUniformly)
+{
+  for (const std::string style : {"peri/nospd", "peri/nospd/hs"})
+    for (const bool tilt : {false, true}) {
+      SCOPED_TRACE(style + (tilt ? ", sheared through the tilt" : ", stretched"));
+      LAMMPS *lmp = open_lammps();
+      blk.dim = GetParam();
+      blk.n = blk.dim == 3 ? 8 : 12;
+      blk.periodic = true;
+      blk.style = style;
+      blk.settings = "strain small";
+      make_block(lmp, blk);
+      if (tilt) cmd(lmp, "change_box all triclinic");
+      cmd(lmp, "run 0");
+      const double L = blk.n * blk.dx;
+      cmd(lmp, tilt ? "change_box all xy final " + num(0.04 * L) + " remap units box"
+                    : std::string("change_box all x scale 1.02 remap"));
+      cmd(lmp, "fix d all nospd/damage stretch 0.01");
+      cmd(lmp, "run 1");
+      auto *fb =
+          static_cast<LAMMPS_NS::FixNospdBonds *>(lmp->modify->get_fix_by_id("NOSPD_BONDS"));
+      int lo = 1 << 30, hi = 0, full = 0;
+      for (int i = 0; i < lmp->atom->nlocal; i++) {
+        int intact = 0;
+        for (int k = 0; k < fb->npartner[i]; k++) intact += fb->partner[i][k] != 0;
+        lo = std::min(lo, intact);
+        hi = std::max(hi, intact);
+        full = std::max(full, fb->npartner[i]);
+      }
+      EXPECT_EQ(lo, hi) << "intact bonds per point from " << lo << " to " << hi << " of " << full;
+      EXPECT_GT(lo, 0);
+      EXPECT_LT(hi, full) << "the deformation must break bonds";
+      delete lmp;
+    }
+}
+
 INSTANTIATE_TEST_SUITE_P(Box, Periodic, ::testing::Values(3, 2),
                          [](const ::testing::TestParamInfo<int> &p) {
                            return std::to_string(p.param) + "D";
