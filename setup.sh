@@ -2,16 +2,18 @@
 # The README's two commands, on a machine that may have nothing but bash and
 # apt (a minimal Debian root: no make, no compiler, no git):
 #   bash setup.sh run    provision (Debian packages, LAMMPS from Debian's
-#                        source package, the plugin), then the flagship example
-#   bash setup.sh test   the same provisioning, then the whole test suite
+#                        source package), build the plugin alone, then run
+#                        the flagship example
+#   bash setup.sh test   the same provisioning, then build the plugin and the
+#                        test programs and run the whole test suite
 # It installs make from Debian when missing and hands over to the Makefile,
 # whose `lammps` target (cmake/lammps.sh) installs everything else.
 set -euo pipefail
 cd "$(dirname "$0")"
 target=${1:-run}
 case "$target" in
-  run | test | plugin | lammps | bench | chart | doc) ;;
-  *) echo "usage: bash setup.sh run|test   (or plugin, lammps, bench, chart, doc)" >&2; exit 2 ;;
+  run | test | plugin | plugin-only | lammps | bench | chart | doc) ;;
+  *) echo "usage: bash setup.sh run|test   (or plugin, plugin-only, lammps, bench, chart, doc)" >&2; exit 2 ;;
 esac
 if ! command -v make > /dev/null; then
   if [ "$(id -u)" != 0 ]; then

@@ -5,13 +5,59 @@
 # Needs root, debootstrap and the Debian mirror; takes a cold LAMMPS build
 # (~15-25 min on 2 cores).  Not part of ctest.
 # usage: tools/check_minimal_debian.sh [ROOT_DIR] [run|test]   (default /tmp/minbase test)
+# Environment: MIRROR (default: the Debian mirror of this machine's apt
+# sources, found as cmake/lammps.sh finds it), SUITE (default bookworm).
 set -euo pipefail
+
+# The Debian mirror this machine's apt already uses, as cmake/lammps.sh
+# takes it for its deb-src entries: the first URI of a "deb" entry that is
+# not a security archive, looked for in /etc/apt/sources.list.d/debian.sources
+# and /etc/apt/sources.list (cmake/lammps.sh's two places, in its order),
+# then in the other sources.list.d/*.sources (deb822) and *.list (one-line)
+# files.  Prints nothing when there is none.  APT_ETC (default /etc/apt)
+# is for testing.
+mirror_of_sources_file() {    # deb822: stanzas separated by blank lines
+  awk '
+    function flush() {
+      if (!found && uri != "" && enabled != "no" && uri !~ /security/ &&
+          (" " types " ") ~ /[ \t]deb[ \t]/) { print uri; found = 1 }
+      types = ""; uri = ""; enabled = ""
+    }
+    /^[ \t]*#/ { next }
+    /^[ \t]*$/ { flush(); next }
+    tolower($1) == "types:" { types = $0; sub(/^[^:]*:/, "", types) }
+    tolower($1) == "uris:" { uri = $2 }
+    tolower($1) == "enabled:" { enabled = tolower($2) }
+    END { flush() }' "$1"
+}
+mirror_of_list_file() {       # one-line style: deb [options] URI suite components
+  awk '$1=="deb" && $0 !~ /security/ {for(i=2;i<=NF;i++) if ($i ~ /^(https?|file|ftp):/) {print $i; exit}}' "$1"
+}
+host_mirror() {
+  local etc=${APT_ETC:-/etc/apt} f uri=""
+  for f in "$etc/sources.list.d/debian.sources" "$etc/sources.list" \
+           "$etc"/sources.list.d/*.sources "$etc"/sources.list.d/*.list; do
+    [ -f "$f" ] || continue
+    case "$f" in
+      *.sources) uri=$(mirror_of_sources_file "$f") ;;
+      *) uri=$(mirror_of_list_file "$f") ;;
+    esac
+    [ -n "$uri" ] && break
+  done
+  printf '%s\n' "$uri"
+}
+
 SRC=$(cd "$(dirname "$0")/.." && pwd)
 ROOTFS=${1:-/tmp/minbase}
 TARGET=${2:-test}
-MIRROR=${MIRROR:-http://deb.debian.org/debian}
 SUITE=${SUITE:-bookworm}
 if [ ! -x "$ROOTFS/usr/bin/apt-get" ]; then
+  MIRROR=${MIRROR:-$(host_mirror)}
+  if [ -z "$MIRROR" ]; then
+    echo "check_minimal_debian.sh: no Debian mirror in /etc/apt/sources.list{,.d}; set MIRROR=URL" >&2
+    exit 1
+  fi
+  echo "check_minimal_debian.sh: debootstrap $SUITE from $MIRROR" >&2
   command -v debootstrap > /dev/null || apt-get install -y -qq debootstrap
   debootstrap --variant=minbase "$SUITE" "$ROOTFS" "$MIRROR"
 fi

@@ -918,12 +918,13 @@ void PairPeriNospd::init_style()
     error->all(FLERR, "{}: 2D runs need a periodic z", cmd);
   warn_barostats(cmd);
   // CG and its line searches assume f = -grad pe: say once when it is not
-  const std::string why = not_a_potential();
-  if (update->whichflag == 2 && !why.empty() && !minimize_warned && comm->me == 0)
+  const std::string why = update->whichflag == 2 && !utils::strmatch(update->minimize_style, "^fire")
+      ? not_a_potential() : "";
+  if (!why.empty() && !minimize_warned && comm->me == 0)
     error->warning(FLERR, "minimize with {} ({}): CG and the line searches need forces that "
                    "are the gradient of the energy; use min_style fire (or damped dynamics)",
                    cmd, why);
-  if (update->whichflag == 2 && !why.empty()) minimize_warned = true;
+  if (!why.empty()) minimize_warned = true;
 
   // the types this style owns: under pair hybrid, only those given to it
   active.assign(atom->ntypes + 1, 0);
@@ -1451,7 +1452,10 @@ NOSPD::UmatPoint PairPeriNospd::umat_env(int i) const
 {
   NOSPD::UmatPoint pt;
   pt.dt = update->dt;
-  pt.time = update->atime + (update->ntimestep - update->atimestep) * update->dt;
+  // TIME at the start of the increment, as Abaqus passes it (the setup's
+  // evaluation of the accepted state takes no increment: its own time)
+  const double t_now = update->atime + (update->ntimestep - update->atimestep) * update->dt;
+  pt.time = update->setupflag ? t_now : t_now - update->dt;
   pt.temperature = temperature_base[i];
   for (int d = 0; d < 3; d++) pt.coords[d] = atom->x[i][d];
   pt.celent = (domain->dimension == 3) ? cbrt(atom->vfrac[i]) : sqrt(atom->vfrac[i] / thickness);

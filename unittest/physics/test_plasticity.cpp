@@ -861,6 +861,14 @@ TEST_F(InelasticBadInput, MinimizeWithoutPotentialWarns)
   EXPECT_EQ(log.find("not a potential", first + 1), std::string::npos) << "warned once";
   delete lmp;
   lmp = open_lammps();
+  make_block(lmp, b);
+  cmd(lmp, "min_modify dmax 1e-6");
+  cmd(lmp, "min_style fire");
+  cmd(lmp, "timestep 1e-8");
+  EXPECT_EQ(log_of(lmp, {"minimize 0.0 1e-12 5 20"}).find("not a potential"), std::string::npos)
+      << "FIRE needs no potential";
+  delete lmp;
+  lmp = open_lammps();
   b.settings = "";
   make_block(lmp, b);
   cmd(lmp, "min_modify dmax 1e-6");

@@ -548,6 +548,29 @@ TEST(UserUmat, ElasticMatchesSmallStrain)
   }
 }
 
+// TIME(1) and TIME(2) hold the time at the start of the increment, DTIME
+// the increment, as Abaqus passes them (the UMAT stores them in STATEV 1-3)
+TEST(UserUmat, TimeIsTheStartOfTheIncrement)
+{
+  LAMMPS *lmp = open_lammps();
+  Block b;
+  b.n = 5;
+  b.settings = "strain umat";
+  make_block(lmp, b);
+  cmd(lmp, "pair_coeff * * " + num(E) + " " + num(NU) + " " + num(b.delta()) + " umat " +
+               umat_lib("umat_elastic.so") + " props 6 " + num(E) + " " + num(NU) +
+               " 0 0 0 1 statev 3");
+  cmd(lmp, "timestep 2e-9");
+  cmd(lmp, "fix 1 all nve");
+  cmd(lmp, "run 3");
+  auto *fb = static_cast<LAMMPS_NS::FixNospdBonds *>(lmp->modify->get_fix_by_id("NOSPD_BONDS"));
+  const double *h = fb->history[0] + NOSPD::UmatHist::STATEV;    // accepted at the run's end
+  EXPECT_DOUBLE_EQ(h[0], 4e-9);    // step 3 runs from t = 4 ns to 6 ns
+  EXPECT_DOUBLE_EQ(h[1], 4e-9);
+  EXPECT_DOUBLE_EQ(h[2], 2e-9);
+  delete lmp;
+}
+
 // a run continued from a restart reads the stored STATEV only with the
 // count that wrote them: another count is an error naming both
 TEST(UserUmat, RestartWithAnotherStatevCountIsAnError)
