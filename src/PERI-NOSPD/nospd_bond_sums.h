@@ -128,17 +128,24 @@ inline void quadratic_sums(const Positions &p, const BondList &bl, int i, double
 }
 
 /* ----------------------------------------------------------------------
-   pass 2 at point i, the stabilization STAB as the style numbers it
-   (0 none, 1 Silling, 2 hourglass, 3 Wan, 5 Silling on the quadratic fit):
+   pass 2 at point i under the stabilization STAB:
      g = w ((B_j [+ B_i]) xi + stabilization term),  f = sum_j g
    B: the BREC records (B^T and the stabilization scalar c); T: T^T per
    atom (Wan's S, or the hourglass c H, H = F - I); Q: the quadratic fit's
-   alpha Q per atom, 6 columns of 3 (with 5, which adds
+   alpha Q per atom, 6 columns of 3 (with SILLING_QUADRATIC, which adds
    (alpha_j Q_j [- alpha_i Q_i]) phi_q(xi) per bond).  Without VIRIAL the i-terms are
    left out (the caller adds B_i sum_j w xi and S_i sum_j w U); with it they
    are in g and v collects the bond virial 1/2 (x_i - x_j) (x) g
    (xx yy zz xy xz yz).
 ------------------------------------------------------------------------- */
+
+/* The stabilization a force pass is compiled for: the pair style's Stab,
+   with Silling's springs on the quadratic fit as a pass of its own. */
+enum class StabPass { NONE, SILLING, HOURGLASS, WAN, SILLING_QUADRATIC };
+constexpr bool has_springs(StabPass s)
+{
+  return s == StabPass::SILLING || s == StabPass::SILLING_QUADRATIC;
+}
 
 struct ForceTerms {
   const double *__restrict B;
@@ -198,11 +205,11 @@ template <int VIRIAL>
 inline void hourglass_force_sums(const Positions &p, const BondList &bl, const ForceTerms &ft,
                                  int i, double *f, double *v);
 
-template <int STAB, int VIRIAL>
+template <StabPass STAB, int VIRIAL>
 inline void force_sums(const Positions &p, const BondList &bl, const ForceTerms &ft, int i,
                        double *f, double *v)
 {
-  if (STAB == 2) return hourglass_force_sums<VIRIAL>(p, bl, ft, i, f, v);
+  if (STAB == StabPass::HOURGLASS) return hourglass_force_sums<VIRIAL>(p, bl, ft, i, f, v);
   using namespace simd;
   const v4 x0i = load4(p.x0 + 3 * i), xi = load4(p.x + 3 * i);
   const double *Bi = ft.B + BREC * i;
@@ -212,10 +219,10 @@ inline void force_sums(const Positions &p, const BondList &bl, const ForceTerms 
   for (int b = bl.from; b < bl.to; b++) {
     const int j = bl.j[b];
     detail::StressBond t = detail::stress_bond<VIRIAL>(p, ft, j, x0i, xi, Bi);
-    if (STAB == 1 || STAB == 5) {
+    if (has_springs(STAB)) {
       t.g += (VIRIAL ? si + t.sj : t.sj) * t.u;
     }
-    if (STAB == 5) {
+    if (STAB == StabPass::SILLING_QUADRATIC) {
       const v4 ee = t.e * t.e;
       const double q3 = t.e[0] * t.e[1], q4 = t.e[0] * t.e[2], q5 = t.e[1] * t.e[2];
       const double *Qj = ft.Q + QREC * j;
@@ -226,7 +233,7 @@ inline void force_sums(const Positions &p, const BondList &bl, const ForceTerms 
         t.g -= load4(Qi) * ee[0] + load4(Qi + 3) * ee[1] + load4(Qi + 6) * ee[2] +
             load4(Qi + 9) * q3 + load4(Qi + 12) * q4 + load4(Qi + 15) * q5;
       }
-    } else if (STAB == 3) {
+    } else if (STAB == StabPass::WAN) {
       t.g += matvec(ft.T + 9 * j, t.u);
       if (VIRIAL) t.g += matvec(Ti, t.u);
     }

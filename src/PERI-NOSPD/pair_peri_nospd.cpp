@@ -1282,17 +1282,17 @@ void PairPeriNospd::compute(int eflag, int vflag)
   const bool virial = vflag_either;
   switch (stab) {
     case Stab::NONE:
-      virial ? force_pass<0, 1>(eflag) : force_pass<0, 0>(eflag);
+      virial ? force_pass<NOSPD::StabPass::NONE, 1>(eflag) : force_pass<NOSPD::StabPass::NONE, 0>(eflag);
       break;
     case Stab::SILLING:
-      if (quadratic_active()) virial ? force_pass<5, 1>(eflag) : force_pass<5, 0>(eflag);
-      else virial ? force_pass<1, 1>(eflag) : force_pass<1, 0>(eflag);
+      if (quadratic_active()) virial ? force_pass<NOSPD::StabPass::SILLING_QUADRATIC, 1>(eflag) : force_pass<NOSPD::StabPass::SILLING_QUADRATIC, 0>(eflag);
+      else virial ? force_pass<NOSPD::StabPass::SILLING, 1>(eflag) : force_pass<NOSPD::StabPass::SILLING, 0>(eflag);
       break;
     case Stab::HOURGLASS:
-      virial ? force_pass<2, 1>(eflag) : force_pass<2, 0>(eflag);
+      virial ? force_pass<NOSPD::StabPass::HOURGLASS, 1>(eflag) : force_pass<NOSPD::StabPass::HOURGLASS, 0>(eflag);
       break;
     case Stab::WAN:
-      virial ? force_pass<3, 1>(eflag) : force_pass<3, 0>(eflag);
+      virial ? force_pass<NOSPD::StabPass::WAN, 1>(eflag) : force_pass<NOSPD::StabPass::WAN, 0>(eflag);
       break;
   }
 }
@@ -1664,7 +1664,7 @@ NOSPD_KERNEL_CLONES void hourglass_pairs_kernel(const NOSPD::Positions &p,
 
 /* forces of points [from, to); without VIRIAL the i-terms B_i sum_j w xi
    and S_i sum_j w U come from the moments rather than from every bond */
-template <int STAB, int VIRIAL>
+template <NOSPD::StabPass STAB, int VIRIAL>
 NOSPD_KERNEL_CLONES void force_range_kernel(const NOSPD::Positions &p, const int *first,
                                             const int *bj, const double *bw,
                                             const NOSPD::ForceTerms &ft, const double *ximom,
@@ -1680,16 +1680,16 @@ NOSPD_KERNEL_CLONES void force_range_kernel(const NOSPD::Positions &p, const int
       const double *m = ximom + 3 * i;
       for (int r = 0; r < 3; r++) f[r] += Bt[r] * m[0] + Bt[3 + r] * m[1] + Bt[6 + r] * m[2];
       const double *u = umom + 3 * i;
-      if (STAB == 1 || STAB == 5) {
+      if (NOSPD::has_springs(STAB)) {
         const double si = Bt[9];    // the stabilization scalar
         for (int r = 0; r < 3; r++) f[r] += si * u[r];
       }
-      if (STAB == 5) {
+      if (STAB == NOSPD::StabPass::SILLING_QUADRATIC) {
         // - alpha_i Q_i sum_j w phi_q(xi)
         const double *Qi = ft.Q + NOSPD::QREC * i, *q = qsums + NOSPD::QSUMS * i + 27;
         for (int r = 0; r < 3; r++)
           for (int k = 0; k < 6; k++) f[r] -= Qi[3 * k + r] * q[k];
-      } else if (STAB == 3) {
+      } else if (STAB == NOSPD::StabPass::WAN) {
         const double *Tt = ft.T + 9 * i;
         for (int r = 0; r < 3; r++) f[r] += Tt[r] * u[0] + Tt[3 + r] * u[1] + Tt[6 + r] * u[2];
       }
@@ -1707,21 +1707,21 @@ NOSPD_KERNEL_CLONES void force_range_kernel(const NOSPD::Positions &p, const int
    (the bond sums: nospd_bond_sums.h)
 ------------------------------------------------------------------------- */
 
-template <int STAB, int VIRIAL> void PairPeriNospd::force_pass(int /*eflag*/)
+template <NOSPD::StabPass STAB, int VIRIAL> void PairPeriNospd::force_pass(int /*eflag*/)
 {
-  if (STAB == 2 && fix_bonds->pairs_ordered()) return hourglass_pair_pass<VIRIAL>();
+  if (STAB == NOSPD::StabPass::HOURGLASS && fix_bonds->pairs_ordered()) return hourglass_pair_pass<VIRIAL>();
   for_ranges(atom->nlocal, true,
              [&](int from, int to, int, Tally &t) { force_range<STAB, VIRIAL>(from, to, t); });
 }
 
-template <int STAB, int VIRIAL> void PairPeriNospd::force_range(int from, int to, Tally &t)
+template <NOSPD::StabPass STAB, int VIRIAL> void PairPeriNospd::force_range(int from, int to, Tally &t)
 {
   if (to <= from) return;
-  const NOSPD::ForceTerms ft{bmat[0], tmat[0], STAB == 5 ? qmat[0] : nullptr};
+  const NOSPD::ForceTerms ft{bmat[0], tmat[0], STAB == NOSPD::StabPass::SILLING_QUADRATIC ? qmat[0] : nullptr};
   std::vector<double> v(VIRIAL ? 6 * (to - from) : 0);
   force_range_kernel<STAB, VIRIAL>(positions, fix_bonds->bond_first, fix_bonds->bond_j,
                                    fix_bonds->bond_w, ft, fix_bonds->xi_moment[0],
-                                   fix_bonds->u_moment[0], STAB == 5 ? qsums[0] : nullptr, from,
+                                   fix_bonds->u_moment[0], STAB == NOSPD::StabPass::SILLING_QUADRATIC ? qsums[0] : nullptr, from,
                                    to, {atom->f[0], v.data()});
   if (!VIRIAL) return;
   for (int i = from; i < to; i++) {
@@ -1929,7 +1929,7 @@ void *PairPeriNospd::extract(const char *name, int &dim)
 }
 
 // the Silling and hourglass passes are also run by the bond-associated style
-template void LAMMPS_NS::PairPeriNospd::force_pass<1, 0>(int);
-template void LAMMPS_NS::PairPeriNospd::force_pass<1, 1>(int);
-template void LAMMPS_NS::PairPeriNospd::force_pass<2, 0>(int);
-template void LAMMPS_NS::PairPeriNospd::force_pass<2, 1>(int);
+template void LAMMPS_NS::PairPeriNospd::force_pass<NOSPD::StabPass::SILLING, 0>(int);
+template void LAMMPS_NS::PairPeriNospd::force_pass<NOSPD::StabPass::SILLING, 1>(int);
+template void LAMMPS_NS::PairPeriNospd::force_pass<NOSPD::StabPass::HOURGLASS, 0>(int);
+template void LAMMPS_NS::PairPeriNospd::force_pass<NOSPD::StabPass::HOURGLASS, 1>(int);

@@ -164,7 +164,7 @@ class PairPeriNospd : public Pair {
   void constitutive_pass(int eflag);
   void constitutive_range(int from, int to, int eflag, Tally &t);
   NOSPD::Mat3 nonaffine_moment(int i, const NOSPD::Mat3 &H, const NOSPD::Mat3 &Ki) const;
-  template <int STAB, int VIRIAL> void force_pass(int eflag);
+  template <NOSPD::StabPass STAB, int VIRIAL> void force_pass(int eflag);
   // the hourglass pass over pairs of owned points, in the bonds fix's pair
   // order, which this style asks for where it can use it: the hourglass on
   // one thread (the /omp styles split the passes by atoms; the
@@ -174,7 +174,7 @@ class PairPeriNospd : public Pair {
   virtual bool pair_order_usable() const { return stab == NOSPD::Stab::HOURGLASS; }
   template <int VIRIAL> void hourglass_pair_pass();
   std::vector<double> inv_volume;    // 1 / V of owned atoms, for the pairs pass
-  template <int STAB, int VIRIAL> void force_range(int from, int to, Tally &t);
+  template <NOSPD::StabPass STAB, int VIRIAL> void force_range(int from, int to, Tally &t);
   void tally_energy(int i, double e);
   void tally_energy(int i, double e, Tally &t)
   {

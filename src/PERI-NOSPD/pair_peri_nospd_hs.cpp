@@ -735,10 +735,10 @@ void PairPeriNospdHS::stabilization_pass(int eflag)
     }
   }
   comm->forward_comm(this);
-  if (silling) vflag_either ? PairPeriNospd::force_pass<1, 1>(eflag)
-                            : PairPeriNospd::force_pass<1, 0>(eflag);
-  else vflag_either ? PairPeriNospd::force_pass<2, 1>(eflag)
-                    : PairPeriNospd::force_pass<2, 0>(eflag);
+  if (silling) vflag_either ? PairPeriNospd::force_pass<NOSPD::StabPass::SILLING, 1>(eflag)
+                            : PairPeriNospd::force_pass<NOSPD::StabPass::SILLING, 0>(eflag);
+  else vflag_either ? PairPeriNospd::force_pass<NOSPD::StabPass::HOURGLASS, 1>(eflag)
+                    : PairPeriNospd::force_pass<NOSPD::StabPass::HOURGLASS, 0>(eflag);
 }
 
 /* ----------------------------------------------------------------------

@@ -34,7 +34,7 @@ NOSPD_KERNEL_CLONES void deformation(const Positions &p, const BondList &bl, int
 {
   deformation_sums<MOMENTS>(p, bl, i, N, s, m);
 }
-template <int STAB, int VIRIAL>
+template <StabPass STAB, int VIRIAL>
 NOSPD_KERNEL_CLONES void forces(const Positions &p, const BondList &bl, const ForceTerms &ft,
                                 int i, double *f, double *v)
 {
@@ -146,7 +146,7 @@ TEST(BondSums, AffineDisplacementGivesHK)
 namespace {
 
 // the force on point 0 bond by bond, i-terms included, and its virial
-template <int STAB> void naive_force(const Cloud &c, double *f, double *v)
+template <StabPass STAB> void naive_force(const Cloud &c, double *f, double *v)
 {
   for (int k = 0; k < 3; k++) f[k] = 0.0;
   for (int k = 0; k < 6; k++) v[k] = 0.0;
@@ -162,17 +162,17 @@ template <int STAB> void naive_force(const Cloud &c, double *f, double *v)
     for (int r = 0; r < 3; r++) {
       g[r] = 0.0;
       for (int k = 0; k < 3; k++) g[r] += (c.B[BREC * j + 3 * k + r] + c.B[3 * k + r]) * e[k];
-      if (STAB == 1 || STAB == 5) g[r] += (sc(c, 0) + sc(c, j)) * uu[r];
-      if (STAB == 5) {
+      if (has_springs(STAB)) g[r] += (sc(c, 0) + sc(c, j)) * uu[r];
+      if (STAB == StabPass::SILLING_QUADRATIC) {
         // (alpha_j Q_j - alpha_i Q_i) phi_q(xi), Q's columns stored one after the other
         const double q[6] = {e[0] * e[0], e[1] * e[1], e[2] * e[2],
                              e[0] * e[1], e[0] * e[2], e[1] * e[2]};
         for (int k = 0; k < 6; k++) g[r] += (c.Q[QREC * j + 3 * k + r] - c.Q[3 * k + r]) * q[k];
       }
-      if (STAB == 3)
+      if (STAB == StabPass::WAN)
         for (int k = 0; k < 3; k++) g[r] += (c.T[9 * j + 3 * k + r] + c.T[3 * k + r]) * uu[k];
     }
-    if (STAB == 2) {
+    if (STAB == StabPass::HOURGLASS) {
       double z[3], ry2 = 0.0, re = 0.0, zy = 0.0;
       for (int r = 0; r < 3; r++) {
         double hi = 0.0, hj = 0.0;
@@ -196,7 +196,7 @@ template <int STAB> void naive_force(const Cloud &c, double *f, double *v)
   }
 }
 
-template <int STAB> void check_force_paths(unsigned seed)
+template <StabPass STAB> void check_force_paths(unsigned seed)
 {
   Cloud c = make_cloud(123, seed);
   std::mt19937 gen(seed + 1);
@@ -210,10 +210,10 @@ template <int STAB> void check_force_paths(unsigned seed)
   forces<STAB, 1>(p, bl, ft, 0, fv, v);
   forces<STAB, 0>(p, bl, ft, 0, f, nullptr);
   naive_force<STAB>(c, fref, vref);
-  EXPECT_LT(rel_diff(fv, fref, 3), 1e-12) << "STAB " << STAB;
-  EXPECT_LT(rel_diff(v, vref, 6), 1e-12) << "STAB " << STAB;
+  EXPECT_LT(rel_diff(fv, fref, 3), 1e-12) << "STAB " << static_cast<int>(STAB);
+  EXPECT_LT(rel_diff(v, vref, 6), 1e-12) << "STAB " << static_cast<int>(STAB);
 
-  if (STAB == 2) return;    // the hourglass term has no factored i-term
+  if (STAB == StabPass::HOURGLASS) return;    // the hourglass term has no factored i-term
   // the i-terms the caller adds from the moments
   double mx[3] = {0, 0, 0}, mu[3] = {0, 0, 0}, mq[6] = {0, 0, 0, 0, 0, 0};
   for (size_t b = 0; b < c.j.size(); b++) {
@@ -228,22 +228,22 @@ template <int STAB> void check_force_paths(unsigned seed)
   }
   for (int r = 0; r < 3; r++) {
     for (int k = 0; k < 3; k++) f[r] += c.B[3 * k + r] * mx[k];
-    if (STAB == 1 || STAB == 5) f[r] += sc(c, 0) * mu[r];
-    if (STAB == 5)
+    if (has_springs(STAB)) f[r] += sc(c, 0) * mu[r];
+    if (STAB == StabPass::SILLING_QUADRATIC)
       for (int k = 0; k < 6; k++) f[r] -= c.Q[3 * k + r] * mq[k];
-    if (STAB == 3)
+    if (STAB == StabPass::WAN)
       for (int k = 0; k < 3; k++) f[r] += c.T[3 * k + r] * mu[k];
   }
-  EXPECT_LT(rel_diff(f, fref, 3), 1e-12) << "STAB " << STAB;
+  EXPECT_LT(rel_diff(f, fref, 3), 1e-12) << "STAB " << static_cast<int>(STAB);
 }
 
 }    // namespace
 
-TEST(BondSums, ForcePathsAgreeNone) { check_force_paths<0>(11); }
-TEST(BondSums, ForcePathsAgreeSilling) { check_force_paths<1>(12); }
-TEST(BondSums, ForcePathsAgreeHourglass) { check_force_paths<2>(13); }
-TEST(BondSums, ForcePathsAgreeWan) { check_force_paths<3>(14); }
-TEST(BondSums, ForcePathsAgreeQuadraticFit) { check_force_paths<5>(15); }
+TEST(BondSums, ForcePathsAgreeNone) { check_force_paths<StabPass::NONE>(11); }
+TEST(BondSums, ForcePathsAgreeSilling) { check_force_paths<StabPass::SILLING>(12); }
+TEST(BondSums, ForcePathsAgreeHourglass) { check_force_paths<StabPass::HOURGLASS>(13); }
+TEST(BondSums, ForcePathsAgreeWan) { check_force_paths<StabPass::WAN>(14); }
+TEST(BondSums, ForcePathsAgreeQuadraticFit) { check_force_paths<StabPass::SILLING_QUADRATIC>(15); }
 
 namespace {
 NOSPD_KERNEL_CLONES void quadratic(const Positions &p, const BondList &bl, int i, double *out)
@@ -303,8 +303,8 @@ TEST(BondSums, HourglassVanishesOnAffineFieldAndCollapsedBond)
   const BondList bl{c.j.data(), c.w.data(), 0, static_cast<int>(c.j.size())};
   const ForceTerms ft{c.B.data(), c.T.data()};
   double f[3], v[6], f0[3];
-  forces<2, 1>(p, bl, ft, 0, f, v);
-  forces<2, 0>(p, bl, ft, 0, f0, nullptr);
+  forces<StabPass::HOURGLASS, 1>(p, bl, ft, 0, f, v);
+  forces<StabPass::HOURGLASS, 0>(p, bl, ft, 0, f0, nullptr);
   for (int d = 0; d < 3; d++) EXPECT_LT(std::abs(f[d]), 1e-13);
   for (int d = 0; d < 3; d++) EXPECT_LT(std::abs(f0[d]), 1e-13);
 
@@ -315,8 +315,8 @@ TEST(BondSums, HourglassVanishesOnAffineFieldAndCollapsedBond)
     for (int d = 0; d < 3; d++) c.x[3 * a + d] = c.x[d];
     for (int k = 0; k < 9; k++) c.T[9 * a + k] = 0.3;
   }
-  forces<2, 1>(p, bl, ft, 0, f, v);
-  forces<2, 0>(p, bl, ft, 0, f0, nullptr);
+  forces<StabPass::HOURGLASS, 1>(p, bl, ft, 0, f, v);
+  forces<StabPass::HOURGLASS, 0>(p, bl, ft, 0, f0, nullptr);
   for (int d = 0; d < 3; d++) {
     EXPECT_TRUE(std::isfinite(f[d]) && std::isfinite(f0[d]));
     EXPECT_LT(std::abs(f[d]), 1e-13);
