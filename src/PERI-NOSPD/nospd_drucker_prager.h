@@ -39,6 +39,7 @@
 namespace NOSPD {
 
 struct DruckerPrager {
+  bool active = false;    // a type's law: Drucker-Prager instead of J2
   double eta = 0.0, eta_bar = 0.0, xi = 0.0;
   double c0 = 0.0, H = 0.0;
 
@@ -52,6 +53,7 @@ struct DruckerPrager {
     dp.eta_bar = 6.0 * std::sin(psi) / (r3 * (3.0 - std::sin(psi)));
     dp.c0 = c0;
     dp.H = H;
+    dp.active = true;
     return dp;
   }
   double cohesion(double a) const { return c0 + H * a; }

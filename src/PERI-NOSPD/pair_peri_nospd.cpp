@@ -52,6 +52,15 @@ static const char cite_nospd[] =
     "}\n\n";
 
 static constexpr const char *BONDS_FIX_ID = "NOSPD_BONDS";
+
+// first value of the settings in a restart file: the layout of what follows
+// (files written before it existed start with the strain law, 0..8); the
+// layout before damaged_leverage (0x4e530002) is read as without that limit,
+// those before drucker_prager (up to 0x4e530003) without it
+static constexpr int RESTART_LAYOUT = 0x4e530004;
+static constexpr int RESTART_LAYOUT_V4 = 0x4e530004;
+static constexpr int RESTART_LAYOUT_V3 = 0x4e530003;
+static constexpr int RESTART_LAYOUT_V2 = 0x4e530002;
 static constexpr double BIG = 1.0e300;
 
 /* ----------------------------------------------------------------------
@@ -143,6 +152,7 @@ void PairPeriNospd::allocate()
   material_name.assign(n, std::string());
   flow.assign(n, NOSPD::FlowLaw());
   thermal.assign(n, NOSPD::ThermalLaw());
+  drucker_prager.assign(n, NOSPD::DruckerPrager());
   inelastic.assign(n, 0);
   user_materials->resize(atom->ntypes);
 }
@@ -342,6 +352,7 @@ void PairPeriNospd::coeff(int narg, char **arg)
   std::string name;
   NOSPD::FlowLaw fl;
   NOSPD::ThermalLaw th;
+  NOSPD::DruckerPrager dp;
   NospdUserMaterials::Spec us;
   bool thermal_ref_given = false;    // by a thermal keyword of the file or the line
   if (has_material) {
@@ -359,13 +370,13 @@ void PairPeriNospd::coeff(int narg, char **arg)
       nu = m.nu;
       G0 = m.G0;
       if (!m.extra.empty())
-        parse_inelastic(m.extra, fl, th, us, thermal_ref_given,
+        parse_inelastic(m.extra, fl, th, dp, us, thermal_ref_given,
                         fmt::format("material {} in {}", name, arg[2]));
     }
     check_modulus(where, E);
     check_poisson(where, nu);
     const std::vector<std::string> words(arg + 5, arg + narg);
-    parse_inelastic(words, fl, th, us, thermal_ref_given, cmd);
+    parse_inelastic(words, fl, th, dp, us, thermal_ref_given, cmd);
   }
 
   int count = 0, nmat = 0;
@@ -377,6 +388,7 @@ void PairPeriNospd::coeff(int narg, char **arg)
       material_name[i] = name;
       flow[i] = fl;
       thermal[i] = th;
+      drucker_prager[i] = dp;
       user_materials->spec(i) = us;
       nmat++;
     }
@@ -408,7 +420,8 @@ void PairPeriNospd::coeff(int narg, char **arg)
 ------------------------------------------------------------------------- */
 
 void PairPeriNospd::parse_inelastic(const std::vector<std::string> &words, NOSPD::FlowLaw &fl,
-                                    NOSPD::ThermalLaw &th, NospdUserMaterials::Spec &us,
+                                    NOSPD::ThermalLaw &th, NOSPD::DruckerPrager &dp,
+                                    NospdUserMaterials::Spec &us,
                                     bool &thermal_ref_given, const std::string &where) const
 {
   using NOSPD::Hardening;
@@ -420,6 +433,11 @@ void PairPeriNospd::parse_inelastic(const std::vector<std::string> &words, NOSPD
   if (has_jc && (has_yield || has("hardening")))
     error->all(FLERR, "{}: johnson_cook excludes yield and hardening (A is the yield stress, "
                "B and n the hardening)", where);
+  // drucker_prager and the J2 laws replace each other the same way
+  if (has("drucker_prager") && (has_jc || has_yield))
+    error->all(FLERR, "{}: drucker_prager excludes yield and johnson_cook (one flow law)", where);
+  if (has("drucker_prager")) fl = NOSPD::FlowLaw();
+  if (has_jc || has_yield) dp = NOSPD::DruckerPrager();
   if (has_jc || (has_yield && fl.kind == Hardening::JOHNSON_COOK)) {
     const double hkin = fl.Hkin;
     fl = NOSPD::FlowLaw();
@@ -514,6 +532,8 @@ void PairPeriNospd::parse_inelastic(const std::vector<std::string> &words, NOSPD
         error->all(FLERR, "{}: heat Taylor-Quinney fraction must be in [0,1], got {}", where, v[1]);
       th.cp = v[0];
       th.chi = v[1];
+    } else if (key == "drucker_prager") {
+      dp = drucker_prager_of(values(4), where);
     } else if (key == "jc_failure") {
       const auto v = values(5);
       th.failure = true;
@@ -530,7 +550,8 @@ void PairPeriNospd::parse_inelastic(const std::vector<std::string> &words, NOSPD
       }
     } else if (!user_materials->parse(words, k, us, where))
       error->all(FLERR, "{}: unknown keyword '{}' (yield, hardening, kinematic, johnson_cook, "
-                 "thermal, heat, jc_failure, energy, param, umat, symbol, props, statev)",
+                 "thermal, heat, jc_failure, drucker_prager, energy, param, umat, symbol, props, "
+                 "statev)",
                  where, key);
   }
   if (fl.kind == Hardening::JOHNSON_COOK && (fl.H != 0.0))
@@ -539,6 +560,31 @@ void PairPeriNospd::parse_inelastic(const std::vector<std::string> &words, NOSPD
     error->all(FLERR, "{}: hardening/kinematic need a yield stress (keyword yield)", where);
   if (!fl.active && (th.cp > 0.0 || th.failure))
     error->all(FLERR, "{}: heat and jc_failure need plasticity (keyword yield or johnson_cook)", where);
+  if (dp.active && (fl.H != 0.0 || fl.K != 0.0 || fl.Hkin != 0.0 || th.alpha != 0.0))
+    error->all(FLERR, "{}: drucker_prager has its own hardening (its H) and no thermal strain: "
+               "hardening, kinematic and thermal do not apply to it", where);
+}
+
+/* ----------------------------------------------------------------------
+   drucker_prager phi psi c H: friction and dilatancy angles (degrees),
+   cohesion and its hardening modulus (nospd_drucker_prager.h)
+------------------------------------------------------------------------- */
+
+NOSPD::DruckerPrager PairPeriNospd::drucker_prager_of(const std::vector<double> &v,
+                                                      const std::string &where) const
+{
+  if (!(v[0] > 0.0 && v[0] < 90.0))
+    error->all(FLERR, "{}: drucker_prager friction angle phi must be in (0, 90) degrees, got {}",
+               where, v[0]);
+  if (!(v[1] >= 0.0 && v[1] <= v[0]))
+    error->all(FLERR, "{}: drucker_prager dilatancy angle psi must be in [0, phi = {}] degrees, "
+               "got {}", where, v[0], v[1]);
+  if (!(v[2] > 0.0)) error->all(FLERR, "{}: drucker_prager cohesion c must be > 0, got {}", where, v[2]);
+  if (!(v[3] >= 0.0))
+    error->all(FLERR, "{}: drucker_prager hardening H = {} would make the cohesion fall; H must "
+               "be >= 0", where, v[3]);
+  const double deg = M_PI / 180.0;
+  return NOSPD::DruckerPrager::from_angles(v[0] * deg, v[1] * deg, v[2], v[3]);
 }
 
 /* ----------------------------------------------------------------------
@@ -549,6 +595,10 @@ void PairPeriNospd::check_inelastic(int itype) const
 {
   const auto &fl = flow[itype];
   const auto &th = thermal[itype];
+  if (drucker_prager[itype].active && strain_law != Law::SMALL && strain_law != Law::HENCKY)
+    error->all(FLERR, "pair_style {}: type {} has drucker_prager but strain {} has no inelastic "
+               "form: use strain small or strain hencky", force->pair_style, itype,
+               law_keyword(strain_law));
   if (!fl.active && th.alpha == 0.0) return;
   if (strain_law != Law::SMALL && strain_law != Law::HENCKY)
     error->all(FLERR, "pair_style {}: type {} has {} but strain {} has no inelastic form: use "
@@ -996,10 +1046,12 @@ void PairPeriNospd::init_style()
     if (!active[i]) continue;
     check_inelastic(i);
     if (user_materials->is_umat(i)) inelastic[i] = POINT_UMAT;
-    else if (flow[i].active || thermal[i].alpha != 0.0) inelastic[i] = POINT_PLASTIC;
+    else if (flow[i].active || thermal[i].alpha != 0.0 || drucker_prager[i].active)
+      inelastic[i] = POINT_PLASTIC;
     if (inelastic[i] == POINT_PLASTIC) history_size = MAX(history_size, NOSPD::Hist::SIZE);
   }
   history_size = MAX(history_size, user_materials->history_size());
+  build_materials();
   if (temperature_kind == TEMP_PROPERTY) {
     int flag, cols;
     temperature_index = atom->find_custom(temperature_name.c_str(), flag, cols);
@@ -1396,24 +1448,56 @@ void PairPeriNospd::constitutive_range(int from, int to, int eflag, Tally &t)
 
 void PairPeriNospd::point_stress(int i, Mat3 &F, Mat3 &P, double &W, const NOSPD::PointEnv &env0)
 {
-  const int itype = atom->type[i];
-  switch (inelastic[itype]) {
-    case POINT_PLASTIC: {
-      NOSPD::PointEnv env = env0;
-      env.T_base = temperature_base[i];
-      env.rho = atom->rmass[i];
-      const auto st =
-          NOSPD::inelastic_point(strain_law, plane_mode, lame[itype], flow[itype], thermal[itype],
-                                 env, F, fix_bonds->history[i], fix_bonds->history_trial[i], P, W);
-      if (st != NOSPD::ReturnStatus::OK) inelastic_failure(i, st, F);
-      return;
-    }
-    case POINT_UMAT:
-      umat_point(i, F, P, W);
-      return;
-    default:
-      if (!NOSPD::first_piola(strain_law, plane_mode, lame[itype], F, P, W)) law_failure(i, F);
+  const NOSPD::Material &law = *materials[atom->type[i]];
+  NOSPD::MaterialEnv env;
+  env.dt = env0.dt;
+  const bool history = fix_bonds->nhistory > 0;
+  if (history) {
+    env.T = temperature_base[i];
+    env.rho = atom->rmass[i];
   }
+  NOSPD::UmatPoint pt;
+  if (law.wants_point_data()) {
+    pt = umat_env(i);
+    env.umat = &pt;
+  }
+  const NOSPD::PointStatus st =
+      law.stress(F, history ? fix_bonds->history[i] : nullptr,
+                 history ? fix_bonds->history_trial[i] : nullptr, env, P, W);
+  if (!st.ok()) material_failure(i, st, F);
+}
+
+/* ----------------------------------------------------------------------
+   each active type's law behind the material-point interface
+   (nospd_material.h): the one place a law is chosen
+------------------------------------------------------------------------- */
+
+void PairPeriNospd::build_materials()
+{
+  materials.clear();
+  materials.resize(atom->ntypes + 1);
+  for (int i = 1; i <= atom->ntypes; i++) {
+    if (!active[i]) continue;
+    if (inelastic[i] == POINT_UMAT)
+      materials[i] = std::make_unique<NOSPD::UmatPointMaterial>(user_materials->umat(i));
+    else if (drucker_prager[i].active)
+      materials[i] = std::make_unique<NOSPD::DruckerPragerMaterial>(strain_law, plane_mode,
+                                                                    lame[i], drucker_prager[i]);
+    else if (inelastic[i] == POINT_PLASTIC)
+      materials[i] = std::make_unique<NOSPD::J2Material>(strain_law, plane_mode, lame[i],
+                                                         flow[i], thermal[i]);
+    else
+      materials[i] = std::make_unique<NOSPD::ElasticMaterial>(strain_law, plane_mode, lame[i]);
+  }
+}
+
+// the message of a law that failed at owned atom i
+void PairPeriNospd::material_failure(int i, NOSPD::PointStatus st, const Mat3 &F) const
+{
+  if (st.family == NOSPD::PointStatus::UMAT) umat_failure(i, static_cast<NOSPD::UmatStatus>(st.code), F);
+  if (st.family == NOSPD::PointStatus::RETURN)
+    inelastic_failure(i, static_cast<NOSPD::ReturnStatus>(st.code), F);
+  law_failure(i, F);
 }
 
 /* ---------------------------------------------------------------------- */
@@ -1435,14 +1519,6 @@ void PairPeriNospd::law_failure(int i, const Mat3 &F) const
    one UMAT increment of owned atom i from its accepted history
 ------------------------------------------------------------------------- */
 
-void PairPeriNospd::umat_point(int i, const Mat3 &F, Mat3 &P, double &W)
-{
-  const int itype = atom->type[i];
-  const NOSPD::UmatPoint pt = umat_env(i);
-  const auto st = NOSPD::umat_point(user_materials->umat(itype), pt, F, fix_bonds->history[i],
-                                    fix_bonds->history_trial[i], P, W);
-  if (st != NOSPD::UmatStatus::OK) umat_failure(i, st, F);
-}
 
 /* ----------------------------------------------------------------------
    what a UMAT's material point at owned atom i needs besides F
@@ -1553,6 +1629,11 @@ void PairPeriNospd::inelastic_failure(int i, NOSPD::ReturnStatus st, const Mat3 
                "law is undefined for an inverted or collapsed family{}",
                force->pair_style, atom->tag[i], update->ntimestep, F.determinant(),
                fix_bonds->unstable_cause());
+  if (drucker_prager[atom->type[i]].active)
+    error->one(FLERR, "pair_style {}: atom {} on step {}: a Drucker-Prager state beyond the "
+               "cone's apex (hydrostatic tension above its strength) cannot return without "
+               "dilatancy: give the type a dilatancy angle psi > 0", force->pair_style,
+               atom->tag[i], update->ntimestep);
   error->one(FLERR, "pair_style {}: the plastic return mapping did not converge at atom {} on "
              "step {} (equivalent plastic strain {:.6g}, temperature {:.6g}); the strain "
              "increment may be too large (time step) or the flow law ill-posed",
@@ -1804,6 +1885,7 @@ void PairPeriNospd::write_restart(FILE *fp)
     fwrite(&g0[i], sizeof(double), 1, fp);
     fwrite(&flow[i], sizeof(NOSPD::FlowLaw), 1, fp);
     fwrite(&thermal[i], sizeof(NOSPD::ThermalLaw), 1, fp);
+    fwrite(&drucker_prager[i], sizeof(NOSPD::DruckerPrager), 1, fp);
     for (int j = i; j <= atom->ntypes; j++) {
       fwrite(&setflag[i][j], sizeof(int), 1, fp);
       if (setflag[i][j]) fwrite(&cut[i][j], sizeof(double), 1, fp);
@@ -1827,7 +1909,11 @@ void PairPeriNospd::read_restart(FILE *fp)
       utils::sfread(FLERR, &g0[i], sizeof(double), 1, fp, nullptr, error);
       utils::sfread(FLERR, &flow[i], sizeof(NOSPD::FlowLaw), 1, fp, nullptr, error);
       utils::sfread(FLERR, &thermal[i], sizeof(NOSPD::ThermalLaw), 1, fp, nullptr, error);
+      if (restart_layout >= RESTART_LAYOUT_V4)
+        utils::sfread(FLERR, &drucker_prager[i], sizeof(NOSPD::DruckerPrager), 1, fp, nullptr,
+                      error);
     }
+    MPI_Bcast(&drucker_prager[i], sizeof(NOSPD::DruckerPrager), MPI_BYTE, 0, world);
     MPI_Bcast(&flow[i], sizeof(NOSPD::FlowLaw), MPI_BYTE, 0, world);
     MPI_Bcast(&thermal[i], sizeof(NOSPD::ThermalLaw), MPI_BYTE, 0, world);
     MPI_Bcast(&youngs[i], 1, MPI_DOUBLE, 0, world);
@@ -1847,11 +1933,6 @@ void PairPeriNospd::read_restart(FILE *fp)
 
 /* ---------------------------------------------------------------------- */
 
-// first value of the settings in a restart file: the layout of what follows
-// (files written before it existed start with the strain law, 0..8); the
-// layout before damaged_leverage (0x4e530002) is read as without that limit
-static constexpr int RESTART_LAYOUT = 0x4e530003;
-static constexpr int RESTART_LAYOUT_V2 = 0x4e530002;
 
 void PairPeriNospd::write_restart_settings(FILE *fp)
 {
@@ -1876,13 +1957,14 @@ void PairPeriNospd::read_restart_settings(FILE *fp)
   int layout = 0;
   if (comm->me == 0) utils::sfread(FLERR, &layout, sizeof(int), 1, fp, nullptr, error);
   MPI_Bcast(&layout, 1, MPI_INT, 0, world);
-  if (layout != RESTART_LAYOUT && layout != RESTART_LAYOUT_V2)
+  if (layout != RESTART_LAYOUT && layout != RESTART_LAYOUT_V3 && layout != RESTART_LAYOUT_V2)
     error->all(FLERR, "read_restart: the {} settings in this file were written by an older "
                "PERI-NOSPD plugin, whose layout this one cannot read: write the file again "
                "with this plugin", force->pair_style);
   int iv[4];
   double dv[5] = {0.0, 0.0, 0.0, 0.0, 1.0};
-  const int ndv = (layout == RESTART_LAYOUT) ? 5 : 4;
+  restart_layout = layout;
+  const int ndv = (layout == RESTART_LAYOUT_V2) ? 4 : 5;
   if (comm->me == 0) {
     utils::sfread(FLERR, iv, sizeof(int), 4, fp, nullptr, error);
     utils::sfread(FLERR, dv, sizeof(double), ndv, fp, nullptr, error);

@@ -15,6 +15,7 @@ PairStyle(peri/nospd,PairPeriNospd);
 #include "pair.h"
 
 #include "nospd_bond_sums.h"
+#include "nospd_material.h"
 #include "nospd_plasticity.h"
 #include "nospd_stabilization.h"
 #include "nospd_user_material.h"
@@ -99,6 +100,12 @@ class PairPeriNospd : public Pair {
   std::vector<int> active;    // types this style owns (pair hybrid may give others away)
   std::vector<NOSPD::FlowLaw> flow;          // J2 flow law (flow[i].active: plastic)
   std::vector<NOSPD::ThermalLaw> thermal;    // expansion, heating, JC failure
+  std::vector<NOSPD::DruckerPrager> drucker_prager;    // pressure-dependent flow (.active)
+  // each active type's law behind the material-point interface, built at init
+  std::vector<std::unique_ptr<NOSPD::Material>> materials;
+  void build_materials();
+  void material_failure(int i, NOSPD::PointStatus st, const NOSPD::Mat3 &F) const;
+  int restart_layout = 0;    // the layout of the restart file read (0: none)
   // how a type's stress is found: its law alone, the built-in inelastic
   // point (nospd_plasticity.h) or a UMAT; the last two keep history
   enum { POINT_ELASTIC = 0, POINT_PLASTIC = 1, POINT_UMAT = 2 };
@@ -215,10 +222,12 @@ class PairPeriNospd : public Pair {
   double inline_number(const std::string &cmd, const char *what, const char *arg) const;
   void check_poisson(const std::string &where, double nu) const;
   void parse_inelastic(const std::vector<std::string> &words, NOSPD::FlowLaw &fl,
-                       NOSPD::ThermalLaw &th, NospdUserMaterials::Spec &us,
+                       NOSPD::ThermalLaw &th, NOSPD::DruckerPrager &dp,
+                       NospdUserMaterials::Spec &us,
                        bool &thermal_ref_given, const std::string &where) const;
+  NOSPD::DruckerPrager drucker_prager_of(const std::vector<double> &v,
+                                         const std::string &where) const;
   void point_stress(int i, NOSPD::Mat3 &F, NOSPD::Mat3 &P, double &W, const NOSPD::PointEnv &env);
-  void umat_point(int i, const NOSPD::Mat3 &F, NOSPD::Mat3 &P, double &W);
   NOSPD::UmatPoint umat_env(int i) const;
   void umat_failure(int i, NOSPD::UmatStatus st, const NOSPD::Mat3 &F) const;
   void check_inelastic(int itype) const;

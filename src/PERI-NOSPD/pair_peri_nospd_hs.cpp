@@ -238,6 +238,13 @@ std::string PairPeriNospdHS::not_a_potential() const
 void PairPeriNospdHS::init_style()
 {
   PairPeriNospd::init_style();
+  // the bond-associated families take their plastic state per bond through
+  // nospd_bond_history.h, which knows J2 and Johnson-Cook only so far
+  for (int i = 1; i <= atom->ntypes; i++)
+    if (active[i] && drucker_prager[i].active)
+      error->all(FLERR, "pair_style {}: type {} has drucker_prager, which the bond-associated "
+                 "style does not offer yet (its per-bond plastic state is J2's); use pair_style "
+                 "peri/nospd", force->pair_style, i);
   // inelastic materials: a point history per family and a state per bond
   // (nospd_bond_history.h); a UMAT's family row is a UmatHist entry of
   // sums and means, then that of the whole family's F

@@ -10,6 +10,7 @@
    bond-associated family (a plastic state per bond). */
 
 #include "nospd_test_util.h"
+#include "nospd_drucker_prager.h"
 #include "nospd_plasticity.h"
 
 #include "domain.h"
@@ -628,6 +629,55 @@ INSTANTIATE_TEST_SUITE_P(Styles, Inelastic, ::testing::ValuesIn(STYLES), style_n
 INSTANTIATE_TEST_SUITE_P(Styles, InelasticPotential, ::testing::Values(STYLES[0], STYLES[1]),
                          style_name);
 
+/* Drucker-Prager through pair_coeff (the material interface): a periodic
+   block compressed along x in steps of change_box ... remap, each accepted
+   by a run (F = diag(s, 1, 1) at every point, no surface), has at every
+   point the first Piola-Kirchhoff stress of the kernel driven along the same
+   F path, under both kinematics; the path yields on the cone. */
+TEST(DruckerPragerBody, UniformCompressionFollowsTheKernel)
+{
+  for (const std::string law : {"small", "hencky"}) {
+    SCOPED_TRACE(law);
+    LAMMPS *lmp = open_lammps();
+    Block b;
+    b.n = 8;
+    b.periodic = true;
+    b.E = 30e9;
+    b.nu = 0.2;
+    b.settings = "strain " + law;
+    make_block(lmp, b);
+    cmd(lmp, "pair_coeff * * 30e9 0.2 " + num(b.delta()) + " drucker_prager 30 10 5e6 2e9");
+    cmd(lmp, "run 0");
+    const NOSPD::Lame m = NOSPD::Lame::from_young(30e9, 0.2);
+    const NOSPD::DruckerPrager dp =
+        NOSPD::DruckerPrager::from_angles(30.0 * M_PI / 180.0, 10.0 * M_PI / 180.0, 5e6, 2e9);
+    std::vector<double> h(NOSPD::Hist::SIZE, 0.0), h1(NOSPD::Hist::SIZE);
+    auto *fb =
+        static_cast<LAMMPS_NS::FixNospdBonds *>(lmp->modify->get_fix_by_id("NOSPD_BONDS"));
+    double s = 1.0;
+    for (int k = 1; k <= 12; k++) {
+      cmd(lmp, "change_box all x scale 0.9996 remap");
+      cmd(lmp, "run 1");
+      s *= 0.9996;
+      NOSPD::Mat3 F = NOSPD::Mat3::Identity(), P;
+      F(0, 0) = s;
+      double W;
+      const auto st = law == "small" ? NOSPD::drucker_prager_small(m, dp, F, h.data(), h1.data(), P, W)
+                                     : NOSPD::drucker_prager_hencky(m, dp, F, h.data(), h1.data(), P, W);
+      ASSERT_EQ(st, NOSPD::ReturnStatus::OK);
+      h = h1;
+      double worst = 0.0;
+      for (int i = 0; i < lmp->atom->nlocal; i++)
+        for (int c = 0; c < 9; c++)
+          worst = std::max(worst, std::abs(fb->pk1[i][c] - P(c / 3, c % 3)));
+      EXPECT_LT(worst, 1e-8 * P.cwiseAbs().maxCoeff()) << "step " << k;
+    }
+    EXPECT_GT(h[NOSPD::Hist::EQPS], 0.0) << "the path must yield";
+    EXPECT_GT(fb->history[0][NOSPD::Hist::EQPS], 0.0);
+    delete lmp;
+  }
+}
+
 // ---------------------------------------------------------------------------
 // bad input
 
@@ -873,6 +923,33 @@ TEST_F(InelasticBadInput, MinimizeWithoutPotentialWarns)
   make_block(lmp, b);
   cmd(lmp, "min_modify dmax 1e-6");
   EXPECT_EQ(log_of(lmp, {"minimize 0.0 1e-12 5 20"}).find("not a potential"), std::string::npos);
+}
+
+TEST_F(InelasticBadInput, DruckerPragerInput)
+{
+  const std::pair<std::string, std::string> cases[] = {
+      {"drucker_prager 0 0 5e6 0", "friction angle phi must be in (0, 90) degrees, got 0"},
+      {"drucker_prager 30 40 5e6 0", "dilatancy angle psi must be in [0, phi = 30] degrees"},
+      {"drucker_prager 30 10 -1 0", "cohesion c must be > 0, got -1"},
+      {"drucker_prager 30 10 5e6 -1", "H must be >= 0"},
+      {"drucker_prager 30 10 5e6 0 yield 1e8", "drucker_prager excludes yield and johnson_cook"},
+      {"drucker_prager 30 10 5e6 0 thermal 1e-5 293", "no thermal strain"},
+  };
+  for (const auto &c : cases) {
+    delete lmp;
+    lmp = open_lammps();
+    EXPECT_THAT(coeff_error("", c.first), HasSubstr(c.second)) << c.first;
+  }
+  // the law needs an inelastic form; the bond-associated style has none yet
+  delete lmp;
+  lmp = open_lammps();
+  EXPECT_EQ(coeff_error("strain svk", "drucker_prager 30 10 5e6 0"), "");
+  EXPECT_THAT(error_of(lmp, "run 0"), HasSubstr("type 1 has drucker_prager but strain svk"));
+  delete lmp;
+  lmp = open_lammps();
+  EXPECT_EQ(coeff_error("", "drucker_prager 30 0 5e6 0"), "");
+  place_affine(lmp, 1.01 * NOSPD::Mat3::Identity(), NOSPD::Vec3(0.002, 0.002, 0.002));
+  EXPECT_THAT(error_of(lmp, "run 0"), HasSubstr("cannot return without dilatancy"));
 }
 
 TEST_F(InelasticBadInput, HeatWithoutPlasticity)
