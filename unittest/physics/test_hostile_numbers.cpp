@@ -170,6 +170,7 @@ std::vector<Case> make_cases()
       {"thermal", "", "thermal 1.2e-5 293", "thermal"},
       {"heat", "yield 250e6", "heat 460 0.9", "heat"},
       {"jc_failure", JC, JCF, "jc_failure"},
+      {"drucker_prager", "", "drucker_prager 30 10 5e6 1e9", "drucker_prager"},
   };
   for (const auto &kw : inelastic) {
     std::istringstream in(kw.words);
