@@ -61,32 +61,9 @@ struct DruckerPrager {
   double cohesion_work(double a, double d) const { return c0 * d + H * (a * d + 0.5 * d * d); }
 };
 
-// dsigma/deps as a 9x9 matrix over row-major 3x3 indices (ij, kl)
-using Tangent9 = Eigen::Matrix<double, 9, 9>;
-
 enum class DPMode { ELASTIC = 0, CONE = 1, APEX = 2 };
 
 namespace detail {
-
-  inline Tangent9 outer(const Mat3 &a, const Mat3 &b)
-  {
-    Tangent9 t;
-    for (int i = 0; i < 9; ++i)
-      for (int k = 0; k < 9; ++k) t(i, k) = a(i / 3, i % 3) * b(k / 3, k % 3);
-    return t;
-  }
-
-  // the symmetric identity on row-major 3x3 indices: d sym(e)/d e
-  inline Tangent9 sym_identity()
-  {
-    Tangent9 t = Tangent9::Zero();
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) {
-        t(3 * i + j, 3 * i + j) += 0.5;
-        t(3 * i + j, 3 * j + i) += 0.5;
-      }
-    return t;
-  }
 
   /* The return on the trial elastic strain e (small strain, or the log
      strain of b_e): e becomes the elastic strain, stress the stress
@@ -180,7 +157,7 @@ inline ReturnStatus drucker_prager_small(const Lame &m, const DruckerPrager &dp,
   h1[Hist::WORK] = hn[Hist::WORK] + dD;
   h1[Hist::YIELDING] = static_cast<double>(mode);
   W = detail::elastic_energy(m, e);
-  if (D) *D = Ds * detail::sym_identity();    // sigma depends on F through sym(F)
+  if (D) *D = Ds * sym_identity();    // sigma depends on F through sym(F)
   return P.allFinite() ? ReturnStatus::OK : ReturnStatus::BAD_DEFORMATION;
 }
 

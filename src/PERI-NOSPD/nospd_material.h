@@ -87,6 +87,12 @@ class J2Material : public Material {
     if (st == ReturnStatus::OK) return {};
     return {PointStatus::RETURN, static_cast<int>(st)};
   }
+  // small strain, 3D or plane strain; Johnson-Cook and hencky have none here
+  bool tangent(const Mat3 &F, const double *hn, const MaterialEnv &env, Tangent9 &D) const override
+  {
+    if (law != Law::SMALL || plane == Plane::STRESS) return false;
+    return j2_small_tangent(m, fl, th, env.T, F, hn, D);
+  }
 
  private:
   Law law;

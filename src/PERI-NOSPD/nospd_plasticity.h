@@ -441,6 +441,44 @@ inline ReturnStatus inelastic_point_3d(Law law, const Lame &m, const FlowLaw &fl
   return ReturnStatus::OK;
 }
 
+/* The consistent tangent dP/dF of the small-strain return from hn at F
+   (3D or plane strain; flow laws whose stress does not depend on rate and
+   temperature through the step: LINEAR and POWER hardening), with n the
+   unit deviatoric direction of the trial eta = dev(sigma_trial) - beta,
+   q = sqrt(3/2)|eta|, d the plastic increment and h the hardening slope at
+   a_n + d:
+       D = C - 6 mu^2 / (3 mu + Hkin + h) n (x) n - 6 mu^2 d / q (I_dev - n (x) n)
+   (the radial return's, de Souza Neto et al. 2008, section 7.4), times
+   d sym(F)/dF. */
+inline bool j2_small_tangent(const Lame &m, const FlowLaw &fl, const ThermalLaw &th,
+                             double T_base, const Mat3 &F, const double *hn, Tangent9 &D)
+{
+  if (fl.kind == Hardening::JOHNSON_COOK) return false;
+  const Mat3 I = Mat3::Identity();
+  const double eth = th.alpha * (T_base + hn[Hist::HEAT] - th.T_ref);
+  const Mat3 e = 0.5 * (F + F.transpose()) - I - load_sym(hn + Hist::PLASTIC) - eth * I;
+  const Tangent9 Isym = sym_identity(), II = outer(I, I);
+  D = m.lambda * II + 2.0 * m.mu * Isym;
+  if (fl.active) {
+    const Mat3 stress = m.lambda * e.trace() * I + 2.0 * m.mu * e;
+    const Mat3 eta = stress - (stress.trace() / 3.0) * I - load_sym(hn + Hist::BACK);
+    const double norm = eta.norm(), q = std::sqrt(1.5) * norm, a_n = hn[Hist::EQPS];
+    double s0;
+    const double sy = fl.flow_at(a_n, 1.0, s0);
+    if (q > sy && norm > 0.0) {
+      double d = 0.0, h;
+      if (!detail::solve_return(fl, m.mu, q, a_n, 1.0, sy, s0, d)) return false;
+      fl.flow_at(a_n + d, 1.0, h);
+      const Mat3 n = eta / norm;
+      const double mu2 = 6.0 * m.mu * m.mu;
+      const Tangent9 nn = outer(n, n);
+      D -= mu2 / (3.0 * m.mu + fl.Hkin + h) * nn + mu2 * d / q * (Isym - II / 3.0 - nn);
+    }
+  }
+  D = D * Isym;
+  return D.allFinite();
+}
+
 /* The same under the plane assumption (plane stress solves F33 for P33 = 0
    with the history of the step start, as the elastic laws do).
 

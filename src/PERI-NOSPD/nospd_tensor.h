@@ -244,6 +244,29 @@ inline bool exp_sym_small(const Mat3 &D, Mat3 &E)
   return true;
 }
 
+// a tangent dA/dB of 3x3 tensors as a 9x9 matrix over row-major indices (ij, kl)
+using Tangent9 = Eigen::Matrix<double, 9, 9>;
+
+inline Tangent9 outer(const Mat3 &a, const Mat3 &b)
+{
+  Tangent9 t;
+  for (int i = 0; i < 9; ++i)
+    for (int k = 0; k < 9; ++k) t(i, k) = a(i / 3, i % 3) * b(k / 3, k % 3);
+  return t;
+}
+
+// d sym(e)/d e
+inline Tangent9 sym_identity()
+{
+  Tangent9 t = Tangent9::Zero();
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) {
+      t(3 * i + j, 3 * i + j) += 0.5;
+      t(3 * i + j, 3 * j + i) += 0.5;
+    }
+  return t;
+}
+
 }    // namespace NOSPD
 
 #endif
