@@ -225,6 +225,9 @@ class PairPeriNospd : public Pair {
                        NOSPD::ThermalLaw &th, NOSPD::DruckerPrager &dp,
                        NospdUserMaterials::Spec &us,
                        bool &thermal_ref_given, const std::string &where) const;
+  NOSPD::FlowLaw johnson_cook_of(const std::vector<double> &v, double Hkin,
+                                 const std::string &where) const;
+  void check_jc_failure(const std::vector<double> &v, const std::string &where) const;
   NOSPD::DruckerPrager drucker_prager_of(const std::vector<double> &v,
                                          const std::string &where) const;
   void point_stress(int i, NOSPD::Mat3 &F, NOSPD::Mat3 &P, double &W, const NOSPD::PointEnv &env);
