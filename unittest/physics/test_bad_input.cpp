@@ -12,10 +12,19 @@
 #include <utility>
 #include <vector>
 
+#include <unistd.h>
+
 using namespace nospdtest;
 using ::testing::HasSubstr;
 
 namespace {
+
+// one file per process: ctest -j runs the tests of this program in parallel
+// processes in the same folder, which must not write or remove each other's
+std::string material_file()
+{
+  return "nospd_bad_input_test." + std::to_string(getpid()) + ".nospd";
+}
 
 class BadInput : public ::testing::Test {
  protected:
@@ -60,7 +69,7 @@ class BadInput : public ::testing::Test {
   // `body` below a header line, written in the build folder (removed after)
   std::string file_material_error(const std::string &body, const std::string &name = "foo")
   {
-    const std::string file = "nospd_bad_input_test.nospd";
+    const std::string file = material_file();
     {
       std::ofstream out(file);
       out << "# DATE: 2026-11-27 UNITS: si CONTRIBUTOR: test\n" << body;
@@ -342,7 +351,7 @@ TEST_F(BadInput, MaterialFileLongLines)
    field and the value; G0 = 0 (no fracture energy) is valid */
 TEST_F(BadInput, MaterialFileBadValues)
 {
-  const std::string entry = "material 'foo' of file nospd_bad_input_test.nospd (line 2): ";
+  const std::string entry = "material 'foo' of file " + material_file() + " (line 2): ";
   const std::vector<std::pair<std::string, std::string>> cases = {
       {"foo inf 0.3 7850 100", entry + "Young's modulus E must be finite, got inf"},
       {"foo 1e308 0.3 7850 100", entry + "Young's modulus E = 1e+308 is beyond any material"},
@@ -355,10 +364,10 @@ TEST_F(BadInput, MaterialFileBadValues)
                                           "got -100"},
       {"foo 210e9 0.3 7850 nan", "G0 must be finite and >= 0 (0: none), got nan"},
       {"foo 210e9 0.3 7850 0", ""},
-      {"foo 210e9 0.3 7850", "material file nospd_bad_input_test.nospd, entry 'foo' (line 2): "
+      {"foo 210e9 0.3 7850", "material file " + material_file() + ", entry 'foo' (line 2): "
                              "the file ends after 4 of its 5 words (name E nu density G0)"},
       {"foo 210e9 0.3 7850\nbar 1e9 0.2 1000 1",
-       "material file nospd_bad_input_test.nospd, entry 'foo' (lines 2-3: an entry with fewer "
+       "material file " + material_file() + ", entry 'foo' (lines 2-3: an entry with fewer "
        "than 5 words continues on the next line): G0 = 'bar' is not a number"},
   };
   for (const auto &c : cases) {
@@ -733,7 +742,7 @@ TEST_F(BadInput, OutOfRangeNumbersNamed)
               HasSubstr("E = '1e999' is beyond the largest double"));
   fresh();
   EXPECT_THAT(file_material_error("foo 210e9 0.3 7850 100 yield 1e999\n"),
-              HasSubstr("material foo in nospd_bad_input_test.nospd: keyword yield expects a "
+              HasSubstr("material foo in " + material_file() + ": keyword yield expects a "
                         "number, got 1e999"));
   for (const char *count : {"2147483648", "4294967297", "-1", "1e20", "2.5"}) {
     fresh();
@@ -762,7 +771,7 @@ TEST_F(BadInput, OutOfRangeNumbersNamed)
 TEST_F(BadInput, MaterialFileEntryAmbiguities)
 {
   EXPECT_THAT(file_material_error("foo 210e9 0.3 7850 100 energy \"0.5*mu*(I1-3) param mu 1\n"),
-              HasSubstr("material file nospd_bad_input_test.nospd, entry 'foo' (line 2): the "
+              HasSubstr("material file " + material_file() + ", entry 'foo' (line 2): the "
                         "quote \" before '0.5*mu*(I1-3) param mu"));
   fresh();
   EXPECT_THAT(file_material_error("foo 210e9 0.3 7850 100\nbar 1e9 0.2 1000 1\n"
