@@ -1,0 +1,242 @@
+/* ----------------------------------------------------------------------
+   PERI-NOSPD: the bonds fix's stable time step -- the estimate per type
+   (bond-based value, stiffness bound), its log line and warning, and the
+   likely cause named by the instability errors.
+------------------------------------------------------------------------- */
+
+#include "fix_nospd_bonds.h"
+
+#include "atom.h"
+#include "comm.h"
+#include "domain.h"
+#include "error.h"
+#include "memory.h"
+#include "update.h"
+
+#include "nospd_bond_sums.h"
+#include "nospd_plasticity.h"
+#include "nospd_tensor.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <string>
+#include <vector>
+
+using namespace LAMMPS_NS;
+
+static constexpr double BIG = 1.0e300;
+
+/* ----------------------------------------------------------------------
+   Stable time step estimate per type, the smaller of two:
+   - velocity Verlet's for the bond-based body with the same P-wave modulus
+     (Silling and Askari 2005, Comput. Struct. 83:1526, eq. 31):
+     dt_i = sqrt(2 rho_i / sum_j V_j c / |xi_ij|);
+   - a multiple (model.bound_margin) of the bound on the correspondence
+     stiffness below, which sees K^-1.  The bound is sufficient (it bounds
+     the linearized operator's largest eigenvalue from above); in every body
+     measured the classical style's runs stayed stable to 2.4-4 times it,
+     and twice it lies at or just below the bond-based estimate where
+     families are whole; the bond-associated style's to 1.5-3.2 times it,
+     hence 1.25 there (doc: "Stable time step").
+   Both are the smallest over the points of each type.  Logged when they
+   change; a warning when the time step exceeds the estimate.
+------------------------------------------------------------------------- */
+
+void FixNospdBonds::report_stable_timestep()
+{
+  const double *c = model.wave_micromodulus;
+  if (!c) return;
+  const int ntypes = atom->ntypes, nlocal = atom->nlocal;
+  const int *type = atom->type;
+  const double *vfrac = atom->vfrac, *rho = atom->rmass;
+  std::vector<double> dtmin(ntypes + 1, BIG), dtbound(ntypes + 1, BIG);
+  for (int i = 0; i < nlocal; i++) {
+    const int it = type[i];
+    if (!(c[it] > 0.0)) continue;
+    double s = 0.0;
+    for (int b = bond_first[i]; b < bond_first[i + 1]; b++) {
+      const int j = bond_j[b];
+      const double dx = x0s[j][0] - x0s[i][0], dy = x0s[j][1] - x0s[i][1],
+                   dz = x0s[j][2] - x0s[i][2];
+      s += vfrac[j] * std::max(c[it], c[type[j]]) / sqrt(dx * dx + dy * dy + dz * dz);
+    }
+    if (s > 0.0) dtmin[it] = std::min(dtmin[it], sqrt(2.0 * rho[i] / s));
+  }
+  bound_stable_timesteps(dtbound);
+  dt_bond.resize(ntypes + 1);
+  dt_bound.resize(ntypes + 1);
+  MPI_Allreduce(dtmin.data(), dt_bond.data(), ntypes + 1, MPI_DOUBLE, MPI_MIN, world);
+  MPI_Allreduce(dtbound.data(), dt_bound.data(), ntypes + 1, MPI_DOUBLE, MPI_MIN, world);
+  std::vector<double> dtall(ntypes + 1);
+  for (int t = 0; t <= ntypes; t++)
+    dtall[t] = dt_bound[t] < BIG ? std::min(dt_bond[t], model.bound_margin * dt_bound[t])
+                                 : dt_bond[t];
+  const bool changed = (dt_reported != dtall);
+  if (!changed && update->dt == dt_checked) return;
+  dt_reported = dtall;
+  dt_checked = update->dt;
+  if (comm->me != 0) return;
+  std::string line = "PERI-NOSPD stable time step estimate:";
+  int worst = 0;
+  for (int t = 1; t <= ntypes; t++) {
+    if (dtall[t] >= BIG) continue;
+    // the estimate is the smaller of its two parts: say how it is made
+    line += fmt::format(" type {} {:.4g}", t, dtall[t]);
+    line += dt_bound[t] < BIG
+        ? fmt::format(" = min(bond-based {:.4g}, {:g} x stiffness bound {:.4g})", dt_bond[t],
+                      model.bound_margin, dt_bound[t])
+        : fmt::format(" (bond-based)");
+    if (!worst || dtall[t] < dtall[worst]) worst = t;
+  }
+  if (!worst) return;
+  if (changed) utils::logmesg(lmp, line + "\n");
+  if (update->dt > dtall[worst])
+    error->warning(FLERR, "Fix {}: timestep {:.4g} exceeds the stable estimate {:.4g} of atom "
+                   "type {}: the run may blow up; use timestep {:.3g} or less",
+                   style, update->dt, dtall[worst], worst, 0.8 * dtall[worst]);
+}
+
+/* ----------------------------------------------------------------------
+   A bound on the classical style's stiffness, linearized at the reference.
+   Pass 2's force,
+     f_i = sum_j w_ij ((P_i K_i^-1 + P_j K_j^-1) xi + s_i z_i + s_j z_j),
+     z_k = U - H_k xi,  H_k = sum_l w_kl (u_l - u_k) (x) K_k^-1 xi_kl,
+   with P = C : H, changes by at most R_i per unit displacement of every
+   point (the sum over k of the 2-norms of df_i/du_k):
+     R_i = |C| |K_i^-1 m_i| D_i + sum_j w_ij |C| |K_j^-1| |xi| D_j
+           + sum_j w_ij (s_i (2 + |xi| D_i) + s_j (2 + |xi| D_j)),
+   m_i = sum_j w_ij xi, and D_k = sum_l w_kl |K_k^-1 xi_kl| + |K_k^-1 m_k|
+   the most H_k changes per unit displacement.  max_i R_i / rho_i bounds
+   the largest eigenvalue of M^-1 K (a block Gershgorin bound), and velocity
+   Verlet is stable below 2 / omega_max: dt_i = 2 sqrt(rho_i / R_i).
+   Unlike the bond-based estimate it sees K^-1, so families cut short or
+   flattened (nearly singular K) count as stiff as they are.  The quadratic
+   fit's spring is bounded as Silling's (its H is the linear fit's here).
+   The bond-associated style bounds its own force (model.family_rows:
+   NOSPD::family_row_bounds of each pattern); its stabilization's springs
+   are the classical ones, on the family's H.
+------------------------------------------------------------------------- */
+
+namespace {
+// the largest eigenvalue of the symmetric K^-1 (in 2D of its in-plane
+// block: the out-of-plane entry is a placeholder)
+double spectral_norm(const NOSPD::Mat3 &Kinv, bool plane)
+{
+  if (plane) {
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(Kinv.topLeftCorner<2, 2>(),
+                                                            Eigen::EigenvaluesOnly);
+    return es.eigenvalues().cwiseAbs().maxCoeff();
+  }
+  Eigen::SelfAdjointEigenSolver<NOSPD::Mat3> es;
+  es.computeDirect(Kinv, Eigen::EigenvaluesOnly);
+  return es.eigenvalues().cwiseAbs().maxCoeff();
+}
+}    // namespace
+
+void FixNospdBonds::bound_stable_timesteps(std::vector<double> &dtmin)
+{
+  using NOSPD::Mat3;
+  using NOSPD::Vec3;
+  const double *cn = model.stress_norm;
+  if (!cn) return;
+  const int nlocal = atom->nlocal, nall = nlocal + atom->nghost;
+  const int *type = atom->type;
+  const double *rho = atom->rmass;
+  const bool plane = (model.dim == 2);
+  auto bounded = [&](int i) {
+    return !(model.active && !model.active[type[i]]) && cn[type[i]] > 0.0;
+  };
+  // D_i and |K_i^-1| of owned points, then of ghosts
+  op_point.assign(2 * (size_t) nall, 0.0);
+  std::vector<double> mlen(nlocal, 0.0);
+  for (int i = 0; i < nlocal; i++) {
+    if (singular[i] || !bounded(i)) continue;
+    const Mat3 Ki = NOSPD::load(kinv[i]);
+    Vec3 m = Vec3::Zero();
+    double d = 0.0;
+    for (int b = bond_first[i]; b < bond_first[i + 1]; b++) {
+      const int j = bond_j[b];
+      const Vec3 xi(x0s[j][0] - x0s[i][0], x0s[j][1] - x0s[i][1], x0s[j][2] - x0s[i][2]);
+      m += bond_w[b] * xi;
+      d += bond_w[b] * (Ki * xi).norm();
+    }
+    mlen[i] = (Ki * m).norm();
+    op_point[2 * i] = d + mlen[i];
+    op_point[2 * i + 1] = spectral_norm(Ki, plane);
+  }
+  comm_mode = 1;
+  comm->forward_comm(this);
+  comm_mode = 0;
+
+  // the stabilization's stiffness of bond (k, l) at end k; none where K_k is singular
+  auto spring = [&](int k, double len) {
+    const double kappa = op_point[2 * k + 1];
+    if (kappa == 0.0) return 0.0;
+    switch (model.spring_kind) {
+      case NospdBondModel::PER_WEIGHT: return model.spring[type[k]];
+      case NospdBondModel::PER_LENGTH: return model.spring[type[k]] / len;
+      case NospdBondModel::WAN: return cn[type[k]] * kappa;
+      default: return 0.0;
+    }
+  };
+  // the bond-associated style bounds its own force (its families' rows)
+  std::vector<double> own_rows;
+  const bool classical = !model.family_rows;
+  if (!classical) model.family_rows(own_rows);
+  for (int i = 0; i < nlocal; i++) {
+    if (!bounded(i)) continue;
+    const double Di = op_point[2 * i];
+    double r = classical ? cn[type[i]] * mlen[i] * Di : own_rows[i];
+    for (int b = bond_first[i]; b < bond_first[i + 1]; b++) {
+      const int j = bond_j[b];
+      const double dx = x0s[j][0] - x0s[i][0], dy = x0s[j][1] - x0s[i][1],
+                   dz = x0s[j][2] - x0s[i][2];
+      const double len = sqrt(dx * dx + dy * dy + dz * dz);
+      const double Dj = op_point[2 * j], kj = op_point[2 * j + 1];
+      r += bond_w[b] * ((classical ? cn[type[j]] * kj * len * Dj : 0.0) +
+                        spring(i, len) * (2.0 + len * Di) + spring(j, len) * (2.0 + len * Dj));
+    }
+    if (r > 0.0) dtmin[type[i]] = std::min(dtmin[type[i]], 2.0 * sqrt(rho[i] / r));
+  }
+}
+
+/* the likely cause, for the instability errors of the fix and the pair style */
+
+double FixNospdBonds::smallest_stable_timestep() const
+{
+  double est = 0.0;
+  for (size_t t = 1; t < dt_reported.size(); t++)
+    if (dt_reported[t] < BIG && (est == 0.0 || dt_reported[t] < est)) est = dt_reported[t];
+  return est;
+}
+
+std::string FixNospdBonds::unstable_cause() const
+{
+  const double est = smallest_stable_timestep();
+  if (est > 0.0 && update->dt > est)
+    return fmt::format(": timestep {:.4g} exceeds the stable estimate {:.4g} (see the log); "
+                       "reduce it", update->dt, est);
+  const bool periodic = domain->xperiodic || domain->yperiodic || domain->zperiodic;
+  if (est > 0.0)
+    return fmt::format(" although timestep {:.4g} is below the stable estimate {:.4g}: look "
+                       "for a stiff contact, an overlapping body or a large applied velocity{}; "
+                       "or reduce the time step: the estimate is linearized at the reference "
+                       "and leaves out contact, a stiffer inelastic tangent and rotated "
+                       "families", update->dt, est,
+                       periodic ? ", for displacements beyond half the periodic box length "
+                                  "(a large shear or rotation of a periodic body)" : "");
+  return "";
+}
+
+/* a stable run hands a user law finite deformations: a contact or an
+   overlap does not make its value non-finite, the law does at that F */
+
+std::string FixNospdBonds::user_law_cause(const std::string &law) const
+{
+  const double est = smallest_stable_timestep();
+  if (est > 0.0 && update->dt > est) return unstable_cause();
+  return fmt::format(": the {} itself gives it at this finite deformation; look in it for a "
+                     "division by zero, a logarithm, root or power of a negative or zero "
+                     "argument, or an overflow", law);
+}
