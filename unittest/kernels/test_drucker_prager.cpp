@@ -11,6 +11,7 @@
 ------------------------------------------------------------------------- */
 
 #include "nospd_drucker_prager.h"
+#include "secant.h"
 
 #include <gtest/gtest.h>
 
@@ -61,15 +62,7 @@ double triaxial(DPPoint &pt, double e1, double sl, double &e2)
     double W;
     return pt.step(diag(e1, x, x), W, false)(1, 1) - sl;
   };
-  double x0 = e2, x1 = e2 + 1e-7, g0 = lateral(x0), g1 = lateral(x1);
-  for (int it = 0; it < 60 && std::abs(g1) > 1e-12 * std::abs(sl) && g1 != g0; ++it) {
-    const double x2 = x1 - g1 * (x1 - x0) / (g1 - g0);
-    x0 = x1;
-    g0 = g1;
-    x1 = x2;
-    g1 = lateral(x1);
-  }
-  e2 = x1;
+  e2 = secant_root(lateral, e2, e2 + 1e-7, 1e-12 * std::abs(sl), 60);
   double W;
   return pt.step(diag(e1, e2, e2), W)(0, 0);
 }

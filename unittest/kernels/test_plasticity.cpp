@@ -10,6 +10,7 @@
 ------------------------------------------------------------------------- */
 
 #include "nospd_plasticity.h"
+#include "secant.h"
 
 #include <gtest/gtest.h>
 
@@ -93,16 +94,7 @@ double uniaxial(Point &pt, double e1, double &e2)
     const Mat3 F = heated(pt, axial_F(pt.law, e1, x));
     return stress_measure(pt.law, F, pt.step(F, W, false))(1, 1);
   };
-  double x0 = e2, x1 = e2 - 1e-4 * (std::abs(e1) + 1e-6);
-  double g0 = lateral(x0), g1 = lateral(x1);
-  for (int it = 0; it < 100 && std::abs(g1) > 1e-6 && g1 != g0; ++it) {
-    const double x2 = x1 - g1 * (x1 - x0) / (g1 - g0);
-    x0 = x1;
-    g0 = g1;
-    x1 = x2;
-    g1 = lateral(x1);
-  }
-  e2 = x1;
+  e2 = secant_root(lateral, e2, e2 - 1e-4 * (std::abs(e1) + 1e-6), 1e-6);
   double W;
   const Mat3 F = heated(pt, axial_F(pt.law, e1, e2));
   return stress_measure(pt.law, F, pt.step(F, W))(0, 0);
