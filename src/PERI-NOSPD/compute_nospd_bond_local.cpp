@@ -163,7 +163,7 @@ void ComputeNospdBondLocal::compute_local()
           case OWN: r[c++] = own; break;
           case EQPS: {
             const double *bs = bond_state(i, b, own);
-            if (bs) r[c++] = bs[NOSPD::BondHist::EQPS];
+            if (bs) r[c++] = bs[pair->bond_material(type[i]) ? NOSPD::Hist::EQPS : NOSPD::BondHist::EQPS];
             else if (pair->has_history(type[i]))
               r[c++] = bonds->current_history()[i][NOSPD::Hist::EQPS];
             else r[c++] = 0.0;
@@ -182,7 +182,9 @@ const double *ComputeNospdBondLocal::bond_state(int i, int b, int own) const
   FixNospdBonds *bonds = pair->bonds();
   if (!pair_hs || !bonds->nhist_bond || !pair->has_history(atom->type[i])) return nullptr;
   double *row = bonds->current_history()[i];
-  if (!own) return row + NOSPD::FamilyHist::FALLBACK;
+  if (!own)
+    return row + (pair->bond_material(atom->type[i]) ? pair->material_law(atom->type[i]).history_size()
+                                                     : NOSPD::FamilyHist::FALLBACK);
   return bonds->bond_history(row, bonds->bond_slot[b]);
 }
 
@@ -204,6 +206,14 @@ bool ComputeNospdBondLocal::bond_stress(int i, int b, int own, Mat3 &F, Mat3 &s)
     if (!bs) {
       F = NOSPD::load(bonds->defgrad[i]);
       P = NOSPD::load(bonds->pk1[i]);
+    } else if (pair->bond_material(itype)) {
+      // the law from the bond's accepted state: elastic back to it at its F
+      const NOSPD::Material &law = pair->material_law(itype);
+      std::vector<double> h1(law.history_size());
+      NOSPD::MaterialEnv env;
+      env.T = pair->temperature(i);
+      env.rho = atom->rmass[i];
+      if (!law.stress(F, bs, h1.data(), env, P, W).ok()) return false;
     } else if (!NOSPD::accepted_bond_stress(pair->law(), pair->plane(), pair->material(itype),
                                             pair->flow_law(itype), pair->thermal_law(itype),
                                             pair->temperature(i), bs, F, P)) {

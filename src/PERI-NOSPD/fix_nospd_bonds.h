@@ -78,6 +78,7 @@ struct NospdBondModel {
        the pair style and read by computes and the damage fix. */
 class FixNospdBonds : public FixPeriNeigh {
  public:
+  static constexpr const char *ID = "NOSPD_BONDS";    // made by the pair style
   FixNospdBonds(class LAMMPS *, int, char **);
   ~FixNospdBonds() override;
   int setmask() override;

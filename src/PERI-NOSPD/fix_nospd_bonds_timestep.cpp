@@ -240,3 +240,55 @@ std::string FixNospdBonds::user_law_cause(const std::string &law) const
                      "division by zero, a logarithm, root or power of a negative or zero "
                      "argument, or an overflow", law);
 }
+
+/* ----------------------------------------------------------------------
+   Instability caught where it starts, before LAMMPS meets its results
+   (non-numeric coordinates, lost atoms, too many neighbor bins): after the
+   drift, every owned point must have a finite position and velocity, and a
+   point that still has bonds must not have moved half its horizon in one
+   step.  Velocity Verlet's drift is v dt, so the check costs one pass over
+   the atoms and none over the bonds.
+------------------------------------------------------------------------- */
+
+void FixNospdBonds::post_integrate()
+{
+  if (ref_box_set && domain->triclinic) follow_box();    // before a flip at this step's exchange
+  const int nlocal = atom->nlocal;
+  if (nbond_atoms != nlocal) return;    // the bond arrays are being rebuilt
+  double **x = atom->x, **v = atom->v;
+  const int *type = atom->type;
+  const double dt = update->dt;
+  int bad = -1;
+  bool nonfinite = false;
+  double moved = 0.0;
+  for (int i = 0; i < nlocal; i++) {
+    if (model.active && !model.active[type[i]]) continue;
+    const double v2 = v[i][0] * v[i][0] + v[i][1] * v[i][1] + v[i][2] * v[i][2];
+    if (!std::isfinite(v2) || !std::isfinite(x[i][0] + x[i][1] + x[i][2])) {
+      bad = i;
+      nonfinite = true;
+      break;
+    }
+    if (bond_first[i + 1] == bond_first[i]) continue;    // a free fragment may fly
+    const double half = 0.5 * model.horizon[type[i]][type[i]];
+    if (v2 * dt * dt > half * half) {
+      bad = i;
+      moved = sqrt(v2) * dt;
+      break;
+    }
+  }
+  int anybad = (bad >= 0), all = 0;
+  MPI_Allreduce(&anybad, &all, 1, MPI_INT, MPI_MAX, world);
+  if (!all) return;
+  const std::string cause = unstable_cause();
+  if (bad >= 0) {
+    if (nonfinite)
+      error->one(FLERR, "Fix {}: step {}: atom {} has a non-finite position or velocity: the "
+                 "run became unstable{}", style, update->ntimestep, atom->tag[bad], cause);
+    error->one(FLERR, "Fix {}: step {}: atom {}, still bonded, moved {:.4g} in one step, more "
+               "than half its horizon {:.4g}: the run became unstable{}", style,
+               update->ntimestep, atom->tag[bad], moved, model.horizon[type[bad]][type[bad]], cause);
+  }
+  error->all(FLERR, "Fix {}: step {}: the run became unstable on another rank", style,
+             update->ntimestep);
+}

@@ -49,7 +49,7 @@
 #include "region.h"
 #include "update.h"
 
-#include "nospd_damage.h"
+#include "nospd_damage_criteria.h"
 #include "nospd_input.h"
 #include "nospd_plasticity.h"
 
@@ -74,8 +74,6 @@ static const char cite_damage[] =
     "}\n\n";
 
 namespace {
-enum { NONE = -1 };
-
 /* Minimum image of a difference vector, without the per-call overhead of
    Domain::minimum_image (orthogonal boxes; triclinic boxes use it).  Like
    it, symmetric under negation: mi(-d) = -mi(d) bit for bit. */
@@ -126,6 +124,7 @@ constexpr int FLAG_SINGULAR = 2;
 constexpr int FLAG_INGROUP = 4;
 }    // namespace
 
+
 /* ---------------------------------------------------------------------- */
 
 FixNospdDamage::FixNospdDamage(LAMMPS *lmp, int narg, char **arg) :
@@ -147,169 +146,10 @@ FixNospdDamage::FixNospdDamage(LAMMPS *lmp, int narg, char **arg) :
   extvector = 0;
   restart_global = 1;
 
-  // the keyword a number belongs to, for its error (set before each read)
-  std::string numkey;
-  auto number = [&](int i) { return NOSPD_INPUT::real(error, cmd, numkey, arg[i]); };
-  auto need = [&](int iarg, int n, const std::string &key) {
-    if (iarg + n >= narg) error->all(FLERR, "{}: {} needs {} value(s)", cmd, key, n);
-  };
-
-  int iarg = 3;
-  const std::string c = arg[iarg];
-  if (c == "none") {
-    criterion = NONE;
-    iarg += 1;
-  } else if (c == "stretch" || c == "energy") {
-    need(iarg, 1, c);
-    criterion = (c == "stretch") ? STRETCH : ENERGY;
-    if (strcmp(arg[iarg + 1], "g0") == 0) {
-      from_g0 = true;
-      iarg += 2;
-      if (iarg < narg && NOSPD::parse_real(arg[iarg], value) != NOSPD::Parsed::NOT_A_NUMBER) {
-        numkey = c + " g0";
-        value = number(iarg);
-        g0_given = true;
-        if (!(value > 0.0)) error->all(FLERR, "{}: fracture energy G0 must be > 0, got {}", cmd, arg[iarg]);
-        iarg++;
-      }
-    } else {
-      numkey = c;
-      value = number(iarg + 1);
-      if (!(value > 0.0))
-        error->all(FLERR, "{}: critical {} must be > 0, got {}", cmd,
-                   criterion == STRETCH ? "stretch" : "bond energy", arg[iarg + 1]);
-      iarg += 2;
-    }
-  } else if (c == "stress" || c == "strain") {
-    need(iarg, 2, c);
-    const std::string kind = arg[iarg + 1];
-    if (c == "stress" && kind == "principal") criterion = STRESS_PRINCIPAL;
-    else if (c == "stress" && kind == "vonmises") criterion = STRESS_VONMISES;
-    else if (c == "strain" && kind == "principal") criterion = STRAIN_PRINCIPAL;
-    else
-      error->all(FLERR, "{}: unknown criterion '{} {}' (stress principal, stress vonmises, "
-                 "strain principal)", cmd, c, kind);
-    numkey = c + " " + kind;
-    value = number(iarg + 2);
-    if (!(value > 0.0)) error->all(FLERR, "{}: critical {} must be > 0, got {}", cmd, c, arg[iarg + 2]);
-    iarg += 3;
-  } else if (c == "eqps") {
-    need(iarg, 1, c);
-    criterion = EQPS;
-    numkey = c;
-    value = number(iarg + 1);
-    if (!(value > 0.0))
-      error->all(FLERR, "{}: critical equivalent plastic strain must be > 0, got {}", cmd, arg[iarg + 1]);
-    iarg += 2;
-  } else if (c == "johnson_cook") {
-    criterion = JC_DAMAGE;
-    value = 1.0;
-    iarg += 1;
-  } else
-    error->all(FLERR, "{}: unknown criterion '{}' (stretch, energy, stress, strain, eqps, "
-               "johnson_cook, none)", cmd, c);
-
-  const int dim = domain->dimension;
+  Args args{error, cmd, narg, arg, ""};
   const char *contact_keyword_given = nullptr;    // the last contact/... keyword
-  while (iarg < narg) {
-    const std::string key = arg[iarg];
-    numkey = key;
-    if (key == "scatter") {
-      need(iarg, 2, key);
-      scatter_width = number(iarg + 1);
-      scatter_seed = NOSPD_INPUT::integer(error, cmd, "scatter seed", arg[iarg + 2], -INT_MAX, INT_MAX);
-      if (!(scatter_width >= 0.0 && scatter_width < 1.0))
-        error->all(FLERR, "{}: scatter width must be in [0,1), got {}", cmd, arg[iarg + 1]);
-      if (scatter_seed <= 0) error->all(FLERR, "{}: scatter seed must be > 0, got {}", cmd, arg[iarg + 2]);
-      iarg += 3;
-    } else if (key == "nofail") {
-      need(iarg, 2, key);
-      const std::string kind = arg[iarg + 1];
-      if (kind == "group") {
-        const int ig = group->find(arg[iarg + 2]);
-        if (ig < 0) error->all(FLERR, "{}: nofail group {} does not exist", cmd, arg[iarg + 2]);
-        nofail_groupbit = group->bitmask[ig];
-      } else if (kind == "region") {
-        if (!domain->get_region_by_id(arg[iarg + 2]))
-          error->all(FLERR, "{}: nofail region {} does not exist", cmd, arg[iarg + 2]);
-        delete[] nofail_region_id;
-        nofail_region_id = utils::strdup(arg[iarg + 2]);
-      } else
-        error->all(FLERR, "{}: nofail takes 'group ID' or 'region ID', got '{}'", cmd, kind);
-      iarg += 3;
-    } else if (key == "singular") {
-      need(iarg, 1, key);
-      const std::string v = arg[iarg + 1];
-      if (v == "keep") detach_singular = false;
-      else if (v == "detach") detach_singular = true;
-      else error->all(FLERR, "{}: singular takes keep or detach, got '{}'", cmd, v);
-      iarg += 2;
-    } else if (key == "precrack") {
-      const int n = (dim == 2) ? 4 : 9;
-      need(iarg, n, key + (dim == 2 ? " (2D: x1 y1 x2 y2)" : " (3D: x1 y1 z1 x2 y2 z2 x3 y3 z3)"));
-      for (int k = 1; k <= n; k++)
-        if (!utils::is_double(arg[iarg + k]) && !utils::strmatch(arg[iarg + k], "^[-+]?(inf|nan)"))
-          error->all(FLERR, "{}: precrack needs {} numbers in {}D, got '{}'", cmd, n, dim, arg[iarg + k]);
-      std::array<double, 9> p{};
-      for (int k = 0; k < n; k++) p[k] = number(iarg + 1 + k);
-      // every corner inside the box
-      const int npts = (dim == 2) ? 2 : 3;
-      for (int q = 0; q < npts; q++)
-        for (int d = 0; d < dim; d++) {
-          const double v = p[q * dim + d];
-          if (v < domain->boxlo[d] || v > domain->boxhi[d])
-            error->all(FLERR, "{}: precrack point {} lies outside the box in {} ({} not in "
-                       "[{}, {}])", cmd, q + 1, "xyz"[d], v, domain->boxlo[d], domain->boxhi[d]);
-        }
-      if (dim == 3) {
-        const NOSPD::Vec3 p1(p[0], p[1], p[2]), p2(p[3], p[4], p[5]), p3(p[6], p[7], p[8]);
-        if (!((p2 - p1).cross(p3 - p1).norm() > 0.0))
-          error->all(FLERR, "{}: precrack corners are collinear", cmd);
-        // the fourth corner too
-        for (int d = 0; d < 3; d++) {
-          const double v = p[3 + d] + p[6 + d] - p[d];
-          if (v < domain->boxlo[d] || v > domain->boxhi[d])
-            error->all(FLERR, "{}: precrack corner P2+P3-P1 lies outside the box in {}", cmd, "xyz"[d]);
-        }
-      } else if (p[0] == p[2] && p[1] == p[3])
-        error->all(FLERR, "{}: precrack segment has zero length", cmd);
-      precracks.push_back(p);
-      iarg += 1 + n;
-    } else if (key == "contact") {
-      need(iarg, 1, key);
-      contact = utils::logical(FLERR, arg[iarg + 1], false, lmp) == 1;
-      iarg += 2;
-    } else if (key == "contact/stiffness") {
-      need(iarg, 1, key);
-      contact_scale = number(iarg + 1);
-      contact_keyword_given = "contact/stiffness";
-      if (!(contact_scale > 0.0)) error->all(FLERR, "{}: contact/stiffness must be > 0, got {}", cmd, arg[iarg + 1]);
-      iarg += 2;
-    } else if (key == "contact/radius") {
-      need(iarg, 1, key);
-      contact_radius = number(iarg + 1);
-      contact_keyword_given = "contact/radius";
-      if (!(contact_radius > 0.0)) error->all(FLERR, "{}: contact/radius must be > 0, got {}", cmd, arg[iarg + 1]);
-      iarg += 2;
-    } else if (key == "alpha") {
-      need(iarg, 1, key);
-      alpha = number(iarg + 1);
-      if (!(alpha >= 0.0)) error->all(FLERR, "{}: alpha must be >= 0, got {}", cmd, arg[iarg + 1]);
-      if (criterion != STRETCH) error->all(FLERR, "{}: alpha applies to the stretch criterion only", cmd);
-      iarg += 2;
-    } else if (key == "every") {
-      need(iarg, 1, key);
-      nevery = NOSPD_INPUT::integer(error, cmd, key, arg[iarg + 1], -INT_MAX, INT_MAX);
-      if (nevery <= 0) error->all(FLERR, "{}: every must be > 0, got {}", cmd, arg[iarg + 1]);
-      iarg += 2;
-    } else {
-      for (const char *c : {"none", "stretch", "energy", "stress", "strain", "eqps", "johnson_cook"})
-        if (key == c)
-          error->all(FLERR, "{}: a second criterion '{}': one fix has one criterion (the first "
-                     "argument); define another fix nospd/damage for another", cmd, key);
-      error->all(FLERR, "{}: unknown keyword '{}'", cmd, key);
-    }
-  }
+  for (int iarg = parse_criterion(args); iarg < narg;)
+    iarg = parse_keyword(args, iarg, contact_keyword_given);
   if (!contact && contact_keyword_given)
     error->all(FLERR, "{}: {} given without contact yes: it sets the contact force, which is "
                "off", cmd, contact_keyword_given);
@@ -696,14 +536,36 @@ void FixNospdDamage::unpack_forward_comm(int n, int first, double *buf)
 void FixNospdDamage::evaluate_and_break(bool apply)
 {
   fill_comm_data();
-  if (criterion == STRETCH && alpha <= 0.0) {
-    std::vector<std::pair<int, int>> cut;
-    if (apply) stretch_cuts(cut);
-    if (!apply) return;
-    nbroken_step = break_list(cut);
-    nbroken_total += nbroken_step;
-    return;
+  std::vector<std::pair<int, int>> cut;
+  switch (criterion) {
+    case STRETCH:
+      if (alpha > 0.0) cut = scan_bonds(NOSPD::AlphaStretchCriterion{alpha}, apply);
+      else if (apply) stretch_cuts(cut);
+      break;
+    case ENERGY:
+      cut = scan_bonds(
+          NOSPD::EnergyCriterion{bonds->get_model().influence == NospdBondModel::INVERSE}, apply);
+      break;
+    case STRESS_PRINCIPAL: cut = scan_bonds(NOSPD::PrincipalCriterion{true}, apply); break;
+    case STRAIN_PRINCIPAL: cut = scan_bonds(NOSPD::PrincipalCriterion{false}, apply); break;
+    case STRESS_VONMISES: cut = scan_bonds(NOSPD::VonMisesCriterion{}, apply); break;
+    case EQPS:
+    case JC_DAMAGE: cut = scan_bonds(NOSPD::PointFailureCriterion{}, apply); break;
   }
+  if (!apply) return;
+  nbroken_step = break_list(cut);
+  nbroken_total += nbroken_step;
+}
+
+/* ----------------------------------------------------------------------
+   Every intact bond of every owned atom through one criterion: the bonds
+   to cut, as (atom, slot), in the serial order (one list per thread,
+   joined in thread order).  The state rows are the forwarded cdata[.][4..].
+------------------------------------------------------------------------- */
+
+template <class Crit>
+std::vector<std::pair<int, int>> FixNospdDamage::scan_bonds(const Crit &crit_of, bool apply)
+{
   const int nlocal = atom->nlocal;
   const tagint *tag = atom->tag;
   const int *type = atom->type;
@@ -712,10 +574,6 @@ void FixNospdDamage::evaluate_and_break(bool apply)
   const int *bfirst = bonds->bond_first;
   const int *bj = bonds->bond_j;
   const int *bslot = bonds->bond_slot;
-  const bool inverse = bonds->get_model().influence == NospdBondModel::INVERSE;
-
-  const bool track_smin = (criterion == STRETCH && alpha > 0.0);
-  // one list per thread, joined in thread order: the serial list
   std::vector<std::vector<std::pair<int, int>>> cuts(NOSPD::range_count(nthreads, nlocal));
   NOSPD::run_ranges(cuts.size(), nlocal, [&](int from, int to, int tid) {
     std::vector<std::pair<int, int>> &cut = cuts[tid];
@@ -723,7 +581,7 @@ void FixNospdDamage::evaluate_and_break(bool apply)
       const int fi = static_cast<int>(cdata[i][3]);
       double smin = 0.0;
       bool first = true;
-      if (track_smin) state[i][0] = 0.0;
+      if (Crit::TRACKS_SMIN) state[i][0] = 0.0;
       if (!(fi & FLAG_INGROUP)) continue;
       for (int b = bfirst[i]; b < bfirst[i + 1]; b++) {
         const int j = bj[b];
@@ -736,76 +594,34 @@ void FixNospdDamage::evaluate_and_break(bool apply)
           cut.emplace_back(i, bslot[b]);
           continue;
         }
-        const double *ca = cdata[a], *cb = cdata[c];
         double xi[3], U[3], Y[3];
-        bond_geometry(x0[a], x0[c], ca, cb, periodic, xi, U, Y);
-        const double rxi2 = xi[0] * xi[0] + xi[1] * xi[1] + xi[2] * xi[2];
-        const double ry2 = Y[0] * Y[0] + Y[1] * Y[1] + Y[2] * Y[2];
-        double limit = crit[type[a]][type[c]];
+        bond_geometry(x0[a], x0[c], cdata[a], cdata[c], periodic, xi, U, Y);
+        NOSPD::BondView v{xi, U, Y, 0.0, 0.0, 0.0, cdata[a] + 4, cdata[c] + 4,
+                          delta[type[a]][type[c]]};
+        v.rxi = sqrt(xi[0] * xi[0] + xi[1] * xi[1] + xi[2] * xi[2]);
+        v.ry = sqrt(Y[0] * Y[0] + Y[1] * Y[1] + Y[2] * Y[2]);
+        v.s = (v.ry - v.rxi) / v.rxi;
+        double limit = crit[type[a]][type[c]], val = 0.0;
         if (scatter_width > 0.0)
           limit *= NOSPD::scatter_factor((uint64_t) scatter_seed, NOSPD::position_key(x0[a]),
                                          NOSPD::position_key(x0[c]), scatter_width);
-        if (criterion == STRETCH) {
-          // with alpha only (the plain criterion runs in stretch_cuts):
-          // Silling & Askari (2005), s_0 = s_00 - alpha s_min per atom, a bond
-          // breaking at the smaller s_0 of its two ends
-          limit -= alpha * std::max(ca[4], cb[4]);
-          const double rxi = sqrt(rxi2);
-          const double s = (sqrt(ry2) - rxi) / rxi;
-          if (apply && (s >= limit || std::isnan(s))) cut.emplace_back(i, bslot[b]);
-          else if (first || s < smin) {
-            smin = s;
-            first = false;
-          }
-          continue;
+        if (!crit_of(v, val, limit)) continue;
+        const bool breaks = val >= limit || std::isnan(val);
+        if (!Crit::TRACKS_SMIN) {
+          if (breaks) cut.emplace_back(i, bslot[b]);
+        } else if (apply && breaks) {
+          cut.emplace_back(i, bslot[b]);
+        } else if (first || val < smin) {
+          smin = val;
+          first = false;
         }
-        const double rxi = sqrt(rxi2);
-        const double ry = sqrt(ry2);
-        const double s = (ry - rxi) / rxi;
-        double val = 0.0;
-        switch (criterion) {
-          case ENERGY: {
-            if (!(s > 0.0)) continue;
-            double Asum[9];
-            for (int k = 0; k < 9; k++) Asum[k] = ca[4 + k] + cb[4 + k];
-            const double omega = inverse ? delta[type[a]][type[c]] / rxi : 1.0;
-            val = NOSPD::bond_energy(omega, Asum, xi, U);
-            break;
-          }
-          case STRESS_PRINCIPAL:
-          case STRAIN_PRINCIPAL: {
-            double S[6];
-            for (int k = 0; k < 6; k++) S[k] = 0.5 * (ca[4 + k] + cb[4 + k]);
-            const double *v = (criterion == STRESS_PRINCIPAL) ? Y : xi;
-            const double r = (criterion == STRESS_PRINCIPAL) ? ry : rxi;
-            if (!(r > 0.0)) continue;
-            const double n[3] = {v[0] / r, v[1] / r, v[2] / r};
-            val = NOSPD::normal_component(S, n);
-            break;
-          }
-          case EQPS:
-          case JC_DAMAGE:
-            // a failed point loses all its bonds
-            val = std::max(ca[4], cb[4]);
-            break;
-          case STRESS_VONMISES: {
-            if (!(s > 0.0)) continue;
-            double S[6];
-            for (int k = 0; k < 6; k++) S[k] = 0.5 * (ca[4 + k] + cb[4 + k]);
-            val = NOSPD::von_mises6(S);
-            break;
-          }
-        }
-        if (val >= limit || std::isnan(val)) cut.emplace_back(i, bslot[b]);
       }
-      if (track_smin) state[i][0] = smin;
+      if (Crit::TRACKS_SMIN) state[i][0] = smin;
     }
   });
-  if (!apply) return;
   std::vector<std::pair<int, int>> cut;
   for (auto &c : cuts) cut.insert(cut.end(), c.begin(), c.end());
-  nbroken_step = break_list(cut);
-  nbroken_total += nbroken_step;
+  return cut;
 }
 
 /* ----------------------------------------------------------------------
@@ -949,110 +765,6 @@ void FixNospdDamage::apply_precracks()
   if (comm->me == 0)
     utils::logmesg(lmp, "Fix {} {}: {} pre-crack(s) cut {} bonds\n", style, id,
                    precracks.size(), n);
-}
-
-/* ----------------------------------------------------------------------
-   Short-range contact between points without an intact bond (crack
-   faces, fragments, separate bodies), after the short-range force idea of
-   Silling's EMU and LAMMPS's PERI styles, written as a repulsive spring:
-     f_i += k_IJ V_j (r - d_ij)/delta_IJ (x_j - x_i)/r   for r < d_ij
-     d_ij = min(0.9 |xi_ij|, r_c),  k_IJ = C c_IJ
-   c_IJ the bond-based micromodulus of the materials (3D 18K/(pi delta^4),
-   2D 9E/(pi t delta^3) plane stress, 48E/(5 pi t delta^3) plane strain),
-   C = contact/stiffness (default 15), r_c = contact/radius (default 1.35
-   times the point spacing).  Pairs V_i f_i + V_j f_j = 0: momentum is
-   conserved.  Force density, like every force of the peri styles.  Its
-   potential, in the styles' density convention (each end takes half):
-     e_i += 1/4 k_IJ V_j (r - d_ij)^2/delta_IJ   per partner j in contact,
-   and the virial 1/2 (x_i - x_j) (x) f_i, both tallied on i.
-------------------------------------------------------------------------- */
-
-void FixNospdDamage::contact_forces()
-{
-  econtact = 0.0;
-  if (!list) return;
-  double **x = atom->x, **x0 = atom->x0, **f = atom->f;
-  const int *type = atom->type;
-  const int *mask = atom->mask;
-  const tagint *tag = atom->tag;
-  const double *vfrac = atom->vfrac;
-  const int inum = list->inum;
-  const int *ilist = list->ilist;
-  const int *numneigh = list->numneigh;
-  int **firstneigh = list->firstneigh;
-  const double rc2 = contact_rc * contact_rc;
-  int *npartner = bonds->npartner;
-  tagint **partner = bonds->partner;
-
-  // per thread: contacts, energy, global virial
-  struct Sums {
-    bigint nc = 0;
-    double e = 0.0;
-    double v[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
-  };
-  std::vector<Sums> sums(NOSPD::range_count(nthreads, inum));
-  NOSPD::run_ranges(sums.size(), inum, [&](int from, int to, int tid) {
-    bigint &nc = sums[tid].nc;
-    double &e = sums[tid].e;
-    double *vsum = sums[tid].v;
-    for (int ii = from; ii < to; ii++) {
-      const int i = ilist[ii];
-      if (!(mask[i] & groupbit)) continue;
-      const int *jlist = firstneigh[i];
-      for (int jj = 0; jj < numneigh[i]; jj++) {
-        const int j = jlist[jj] & NEIGHMASK;
-        if (!(mask[j] & groupbit)) continue;
-        const double dx = x[j][0] - x[i][0], dy = x[j][1] - x[i][1], dz = x[j][2] - x[i][2];
-        const double rsq = dx * dx + dy * dy + dz * dz;
-        if (rsq >= rc2 || rsq == 0.0) continue;
-        double d0[3];
-        bonds->reference_bond(x0[i], x0[j], d0);
-        const double r0 = sqrt(d0[0] * d0[0] + d0[1] * d0[1] + d0[2] * d0[2]);
-        const double dij = std::min(0.9 * r0, contact_rc);
-        const double r = sqrt(rsq);
-        if (r >= dij) continue;
-        // bonded pairs interact through their bond
-        bool bonded = false;
-        const tagint tj = tag[j];
-        for (int n = 0; n < npartner[i]; n++)
-          if (partner[i][n] == tj) {
-            bonded = true;
-            break;
-          }
-        if (bonded) continue;
-        const int it = type[i], jt = type[j];
-        if (delta[it][jt] == 0.0) continue;    // another pair style's type
-        const double kv = kcontact[it][jt] * vfrac[j] / delta[it][jt];
-        const double fpair = kv * (r - dij) / r;
-        f[i][0] += fpair * dx;
-        f[i][1] += fpair * dy;
-        f[i][2] += fpair * dz;
-        e += 0.25 * kv * (r - dij) * (r - dij);
-        if (vflag_either) {
-          // 1/2 (x_i - x_j) (x) f_i, x_i - x_j = -(dx, dy, dz)
-          double v[6] = {-0.5 * fpair * dx * dx, -0.5 * fpair * dy * dy, -0.5 * fpair * dz * dz,
-                         -0.5 * fpair * dx * dy, -0.5 * fpair * dx * dz, -0.5 * fpair * dy * dz};
-          if (vflag_global)
-            for (int k = 0; k < 6; k++) vsum[k] += v[k];
-          if (vflag_atom)
-            for (int k = 0; k < 6; k++) vatom[i][k] += v[k];
-        }
-        nc++;
-      }
-    }
-  });
-  bigint nc = 0;
-  double e = 0.0;
-  for (const Sums &t : sums) {
-    nc += t.nc;
-    e += t.e;
-    if (vflag_global)
-      for (int k = 0; k < 6; k++) virial[k] += t.v[k];
-  }
-  econtact = e;
-  bigint all = 0;
-  MPI_Allreduce(&nc, &all, 1, MPI_LMP_BIGINT, MPI_SUM, world);
-  ncontact = all / 2;
 }
 
 /* ---------------------------------------------------------------------- */

@@ -16,6 +16,7 @@ FixStyle(nospd/damage,FixNospdDamage);
 #include "nospd_constitutive.h"
 
 #include <array>
+#include <string>
 #include <vector>
 
 namespace LAMMPS_NS {
@@ -56,7 +57,7 @@ class FixNospdDamage : public Fix {
   double memory_usage() override;
 
   enum Criterion {
-    STRETCH, ENERGY, STRESS_PRINCIPAL, STRAIN_PRINCIPAL, STRESS_VONMISES, EQPS, JC_DAMAGE
+    NONE = -1, STRETCH, ENERGY, STRESS_PRINCIPAL, STRAIN_PRINCIPAL, STRESS_VONMISES, EQPS, JC_DAMAGE
   };
 
  protected:
@@ -105,12 +106,27 @@ class FixNospdDamage : public Fix {
   double econtact;          // contact energy of the owned atoms, last evaluation
   bool rerun_warned = false;    // rerun's warning given
 
+  // the fix's arguments and the keyword a number belongs to, for its error
+  struct Args {
+    class Error *error;
+    std::string cmd;
+    int narg;
+    char **arg;
+    std::string key;
+    double number(int i) const;
+    void need(int iarg, int n, const std::string &what) const;
+  };
+  int parse_criterion(Args &);
+  int parse_keyword(Args &, int iarg, const char *&contact_keyword_given);
+  int add_precrack(Args &, int iarg);
   void setup_tables();
   void store_state();
   void store_state_range(NOSPD::Law law, int from, int to);
   void fill_comm_data();
   void evaluate_and_break(bool apply = true);
   void stretch_cuts(std::vector<std::pair<int, int>> &cut);
+  template <class Crit>
+  std::vector<std::pair<int, int>> scan_bonds(const Crit &, bool apply);
   void bond_geometry(const double *x0a, const double *x0c, const double *ua, const double *uc,
                      bool periodic, double *xi, double *U, double *Y) const;
   void apply_precracks();

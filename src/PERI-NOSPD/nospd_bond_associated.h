@@ -37,6 +37,7 @@
 
 #include "nospd_constitutive.h"
 #include "nospd_simd.h"
+#include "nospd_sum_program.h"
 
 #include <algorithm>
 #include <cmath>
@@ -48,19 +49,6 @@
 namespace NOSPD {
 
 enum class HSForm { I = 1, II = 2 };
-
-struct SumProgram {
-  int n = 0;               // inputs: rows 0..n-1 of the work array
-  int nrow = 0;            // rows of work the program touches (inputs and temporaries)
-  // records of four 16-bit fields, read with one 8-byte load:
-  //   d, a, b, 0:    row d = row a + row b
-  //   OUTPUT, j, c, 0, then r_1..r_c padded to a multiple of 4:
-  //                  output j = sum of rows r_1..r_c
-  std::vector<uint16_t> code;
-  static constexpr uint16_t OUTPUT = 0xffff;
-  bool ready() const { return !code.empty(); }
-  double bytes() const { return 2.0 * code.size(); }
-};
 
 /* Reference data of one family shape.  Slots are the members in
    boustrophedon order; per-slot tensors are dim x dim, row-major. */
@@ -214,173 +202,6 @@ inline void build_pattern(BondPattern &p, int dim, int n, const double *b_lex,
     p.beta[j] = S > 0.0 ? vh[j] / S : 0.0;
     p.cforce[j] = (form == HSForm::II) ? p.beta[j] : vh[j] / vh_all;
   }
-}
-
-/* ----------------------------------------------------------------------
-   Sums over the bond-associated families: S_j = sum_{k in h_ij} X_k for
-   every slot j, X one row of dim*dim values per member.  Both sums the
-   model needs have this form (N_j from w U (x) b, and - by the symmetry
-   of membership - Gbar_k from the G_j), so one evaluator serves both.
-
-   Two evaluators:
-   - runs: prefix sums of X in slot order, and one difference per run;
-   - a sum program: a straight-line list of pairwise sums shared by many
-     families (greedy common-subexpression elimination, Paar 1997), built
-     once for a pattern that many atoms share.  On a grid (3D, delta =
-     3 dx, ratio 1) it makes 212 pairwise sums for the 122 families and
-     adds 11.7 rows per family into registers, against 19 differences of
-     prefix sums for the runs and 55 rows for the plain member lists.
-------------------------------------------------------------------------- */
-
-/* Greedy CSE: repeatedly replace the pair of terms that occurs together
-   in most sets by a new term, until no pair occurs in MIN_SHARE sets.
-   Loads and stores, not additions, bound the evaluation: a row added
-   into an output's register costs one load, a pairwise sum two loads and
-   a store, so a pair shared by k sets saves k - 3 memory operations and
-   pays from k = 4 on (measured: 6% faster than sharing every pair that
-   occurs twice, 3D grid, AVX-512).  Pair counts
-   live in a dense triangular table over the terms, which grows as
-   temporaries are made (a few hundred for a 3D family); the most frequent
-   pair comes from a bucket queue (counts are at most the number of sets),
-   whose stale entries are requeued or dropped when they surface.  The
-   program is a deterministic function of the sets. */
-inline SumProgram build_sum_program(const std::vector<std::vector<int>> &sets, int n)
-{
-  constexpr int MIN_SHARE = 4;
-  struct {
-    int n;
-    std::vector<int> temp, code;
-  } pg{n, {}, {}};
-  std::vector<std::vector<int>> rows = sets;
-  const int nrow = (int) rows.size();
-  int cap = 4 * n + 16, nterm = n;
-  std::vector<int> count((size_t) cap * cap, 0);
-  std::vector<std::vector<char>> in(nrow, std::vector<char>(cap, 0));
-  for (int r = 0; r < nrow; ++r)
-    for (int x : rows[r]) in[r][x] = 1;
-
-  std::vector<std::vector<uint64_t>> bucket(nrow + 1);    // pairs (a << 32 | b) by count
-  int top = 0;
-  auto push = [&](int c, uint64_t k) {
-    bucket[c].push_back(k);
-    top = std::max(top, c);
-  };
-  auto bump = [&](int a, int b, int by) {
-    if (a > b) std::swap(a, b);
-    const int c = (count[(size_t) a * cap + b] += by);
-    if (by > 0 && c >= MIN_SHARE) push(c, (uint64_t) a << 32 | (uint32_t) b);
-  };
-  auto grow = [&]() {
-    const int ncap = 2 * cap;
-    std::vector<int> bigger((size_t) ncap * ncap, 0);
-    for (int a = 0; a < nterm; ++a)
-      for (int b = a; b < nterm; ++b) bigger[(size_t) a * ncap + b] = count[(size_t) a * cap + b];
-    count.swap(bigger);
-    for (auto &v : in) v.resize(ncap, 0);
-    cap = ncap;
-  };
-  for (auto &r : rows)
-    for (size_t x = 0; x < r.size(); ++x)
-      for (size_t y = x + 1; y < r.size(); ++y) bump(r[x], r[y], 1);
-
-  while (top >= MIN_SHARE) {
-    if (bucket[top].empty()) {
-      top--;
-      continue;
-    }
-    const uint64_t k = bucket[top].back();
-    bucket[top].pop_back();
-    const int a = (int) (k >> 32), b = (int) (k & 0xffffffffu);
-    const int c = count[(size_t) a * cap + b];
-    if (c != top) {
-      // stale: its count fell since; requeue where it belongs now
-      if (c >= MIN_SHARE) bucket[c].push_back(k);
-      continue;
-    }
-    if (nterm == cap) grow();
-    const int t = nterm++;
-    pg.temp.push_back(a);
-    pg.temp.push_back(b);
-    for (int r = 0; r < nrow; ++r) {
-      if (!in[r][a] || !in[r][b]) continue;
-      auto &row = rows[r];
-      row.erase(std::remove_if(row.begin(), row.end(), [&](int x) { return x == a || x == b; }),
-                row.end());
-      in[r][a] = in[r][b] = 0;
-      bump(a, b, -1);
-      for (int x : row) {
-        bump(a, x, -1);
-        bump(b, x, -1);
-        bump(x, t, 1);
-      }
-      row.push_back(t);
-      in[r][t] = 1;
-    }
-  }
-  // Schedule: outputs in slot order, each temporary made when first
-  // needed, and a row reused as soon as its last reader is done (inputs
-  // included).  This keeps the live rows few - the work array stays in
-  // the L1 cache - while the operation count is unchanged.
-  const int nt = (int) pg.temp.size() / 2;
-  std::vector<int> uses(n + nt, 0), slot(n + nt, -1), free_rows;
-  std::vector<char> made(n + nt, 0);
-  for (int x : pg.temp) uses[x]++;
-  for (auto &r : rows)
-    for (int x : r) uses[x]++;
-  for (int k = 0; k < n; ++k) {
-    slot[k] = k;
-    made[k] = 1;
-  }
-  int nrow_used = n;
-  auto release = [&](int x) {
-    if (--uses[x] == 0) free_rows.push_back(slot[x]);
-  };
-  auto take = [&]() {
-    if (free_rows.empty()) return nrow_used++;
-    const int r = free_rows.back();
-    free_rows.pop_back();
-    return r;
-  };
-  std::vector<int> stack;
-  for (size_t j = 0; j < rows.size(); ++j) {
-    for (int x : rows[j]) {
-      // make x and what it needs, operands first (iteratively)
-      stack.push_back(x);
-      while (!stack.empty()) {
-        const int y = stack.back();
-        if (made[y]) {
-          stack.pop_back();
-          continue;
-        }
-        const int a = pg.temp[2 * (y - n)], b = pg.temp[2 * (y - n) + 1];
-        if (!made[a] || !made[b]) {
-          if (!made[a]) stack.push_back(a);
-          if (!made[b]) stack.push_back(b);
-          continue;
-        }
-        stack.pop_back();
-        // the destination is taken before the operands are released: it
-        // never aliases them, so the evaluator may use restrict pointers
-        slot[y] = take();
-        const int sa = slot[a], sb = slot[b];
-        release(a);
-        release(b);
-        made[y] = 1;
-        pg.code.insert(pg.code.end(), {slot[y], sa, sb, 0});
-      }
-    }
-    pg.code.insert(pg.code.end(), {(int) SumProgram::OUTPUT, (int) j, (int) rows[j].size(), 0});
-    for (int x : rows[j]) pg.code.push_back(slot[x]);
-    while (pg.code.size() % 4) pg.code.push_back(0);
-    for (int x : rows[j]) release(x);
-  }
-  SumProgram out;
-  out.n = n;
-  out.nrow = nrow_used;
-  // rows and outputs must fit the 16-bit fields (else the runs serve)
-  if (nrow_used >= SumProgram::OUTPUT || (int) rows.size() >= SumProgram::OUTPUT) return out;
-  out.code.assign(pg.code.begin(), pg.code.end());
-  return out;
 }
 
 /* Several families of one pattern are evaluated together, L "lanes" (1
@@ -648,103 +469,149 @@ struct LaneInput {
   double *t = nullptr;          // out: Gbar_k b_k, 3 per slot
 };
 
-/* Evaluate L families that share the pattern p.  The force state of each
-   is T_i<xi_k> = omega_k t_k.  The energy is summed only if asked for.
-   Returns false where the law is undefined (det F <= 0); out[l].bad names
-   the bond of the lane that failed. */
-template <int DIM, int L>
-bool evaluate_families(const BondPattern &p, HSForm form, Law law, Plane plane,
-                       const LaneInput *in, bool energy, StateScratch &s, StateOutput *out)
-{
+/* The evaluation of L families of one pattern, step by step: the work
+   rows X_k = w U (x) b and the family's F, each bond's F_j, P_j and
+   G_j = c_j P_j K_j^-1, the whole family's state for singular bonds, and
+   the force state t_k = Gbar_k b_k.  Form II writes G straight into the
+   work rows of the second sum. */
+template <int DIM, int L> struct FamilyPass {
   using RL = RowLayout<DIM, L>;
-  constexpr int NC = RL::NC, NM = RL::NM, RM = RL::RM;
-  const int n = p.n;
-  for (int l = 0; l < L; ++l) {
-    out[l].P.setZero();
-    out[l].W = 0.0;
-    out[l].fallback = 0;
-    out[l].F = Mat3::Identity();
-  }
-  if (p.atom_singular) {
-    for (int l = 0; l < L; ++l)
-      for (int k = 0; k < 3 * n; ++k) in[l].t[k] = 0.0;
-    return true;
-  }
-  s.reserve(n, std::max(n, p.program.nrow), L);
-  double *__restrict w = s.main_rows();
-  double *__restrict side = s.side.data();
-  double *__restrict sums = s.sums.data();
-  double *__restrict gI = s.g.data();
-  auto put = [&](int row, int c, int l, double v) {
-    if (c < NM) w[RM * row + L * c + l] = v;
-    else side[L * row + l] = v;
-  };
+  static constexpr int NC = RL::NC, NM = RL::NM, RM = RL::RM;
+  const BondPattern &p;
+  HSForm form;
+  Law law;
+  Plane plane;
+  const LaneInput *in;
+  bool energy;
+  StateOutput *out;
+  int n;
+  double *__restrict w, *__restrict side, *__restrict sums, *__restrict gI;
   bool linear = true;
   double lam[L], mu[L];
-  for (int l = 0; l < L; ++l) {
-    linear = linear && in[l].lin && in[l].lin->ok && !in[l].bond_law;
-    lam[l] = in[l].lin ? in[l].lin->lam : 0.0;
-    mu[l] = in[l].lin ? in[l].lin->mu : 0.0;
-  }
-
-  // X_k = w U (x) b into the work rows, and the whole family's sum for its F
-  double nall[NC][L] = {};
-  if constexpr (DIM == 3 && L == 1) {
-    // rows w U_a b^T on 4-lane vectors; each row's store spills one junk
-    // value into the next row's first slot, which that row then overwrites
-    using namespace simd;
-    v4 n0{}, n1{}, n2{};
-    const double *U = in[0].U;
-    for (int k = 0; k < n; ++k) {
-      const v4 wb = p.w[k] * load4(&p.b[3 * k]);
-      const v4 x0 = U[3 * k] * wb, x1 = U[3 * k + 1] * wb, x2 = U[3 * k + 2] * wb;
-      double *row = w + RM * k;
-      std::memcpy(row, &x0, sizeof(x0));
-      std::memcpy(row + 3, &x1, sizeof(x1));
-      row[6] = x2[0];
-      row[7] = x2[1];
-      side[k] = x2[2];
-      n0 += x0;
-      n1 += x1;
-      n2 += x2;
-    }
-    for (int c = 0; c < 3; ++c) {
-      nall[c][0] = n0[c];
-      nall[3 + c][0] = n1[c];
-      nall[6 + c][0] = n2[c];
-    }
-  } else {
-    for (int k = 0; k < n; ++k) {
-      const double *bk = &p.b[3 * k];
-      for (int a = 0; a < DIM; ++a)
-        for (int l = 0; l < L; ++l) {
-          const double wu = p.w[k] * in[l].U[3 * k + a];
-          for (int c = 0; c < DIM; ++c) {
-            const double x = wu * bk[c];
-            put(k, a * DIM + c, l, x);
-            nall[a * DIM + c][l] += x;
-          }
-        }
-    }
-  }
   double hfam[NC][L];
-  for (int l = 0; l < L; ++l) {
-    double nl[NC], hl[NC];
-    for (int c = 0; c < NC; ++c) nl[c] = nall[c][l];
-    block_mul<DIM>(nl, p.kinv_full, hl);
-    for (int c = 0; c < NC; ++c) hfam[c][l] = hl[c];
-    out[l].F = identity_plus<DIM>(hl);
-    if (in[l].bond_law) in[l].bond_law->begin(out[l].F);
-  }
-  bond_sums<DIM, L>(p, s, sums);
-
-  // bond-associated F_j, P_j and G_j = c_j P_j K_j^-1; Form II writes G
-  // straight into the work rows of the second sum
   double cs_force = 0.0, cs_beta = 0.0;
   double hmean[NC][L] = {};    // linear law: sum_j beta_j H_j
   double f33[L] = {};          // other laws: sum_j beta_j F_j,zz (2D: solved in plane stress)
-  simd::v4 hm[3] = {};          // its rows, for the 3D one-lane linear bonds
-  for (int j = 0; j < n; ++j) {
+  simd::v4 hm[3] = {};         // its rows, for the 3D one-lane linear bonds
+  double gs[NC][L] = {};       // the whole family's G (singular bonds)
+
+  FamilyPass(const BondPattern &p, HSForm form, Law law, Plane plane, const LaneInput *in,
+             bool energy, StateScratch &s, StateOutput *out) :
+      p(p), form(form), law(law), plane(plane), in(in), energy(energy), out(out), n(p.n),
+      w(s.main_rows()), side(s.side.data()), sums(s.sums.data()), gI(s.g.data())
+  {
+    for (int l = 0; l < L; ++l) {
+      linear = linear && in[l].lin && in[l].lin->ok && !in[l].bond_law;
+      lam[l] = in[l].lin ? in[l].lin->lam : 0.0;
+      mu[l] = in[l].lin ? in[l].lin->mu : 0.0;
+    }
+  }
+
+  void put(int row, int c, int l, double v)
+  {
+    if (c < NM) w[RM * row + L * c + l] = v;
+    else side[L * row + l] = v;
+  }
+
+  // X_k = w U (x) b into the work rows, and the whole family's F from their sum
+  void family_rows()
+  {
+    double nall[NC][L] = {};
+    if constexpr (DIM == 3 && L == 1) {
+      // rows w U_a b^T on 4-lane vectors; each row's store spills one junk
+      // value into the next row's first slot, which that row then overwrites
+      using namespace simd;
+      v4 n0{}, n1{}, n2{};
+      const double *U = in[0].U;
+      for (int k = 0; k < n; ++k) {
+        const v4 wb = p.w[k] * load4(&p.b[3 * k]);
+        const v4 x0 = U[3 * k] * wb, x1 = U[3 * k + 1] * wb, x2 = U[3 * k + 2] * wb;
+        double *row = w + RM * k;
+        std::memcpy(row, &x0, sizeof(x0));
+        std::memcpy(row + 3, &x1, sizeof(x1));
+        row[6] = x2[0];
+        row[7] = x2[1];
+        side[k] = x2[2];
+        n0 += x0;
+        n1 += x1;
+        n2 += x2;
+      }
+      for (int c = 0; c < 3; ++c) {
+        nall[c][0] = n0[c];
+        nall[3 + c][0] = n1[c];
+        nall[6 + c][0] = n2[c];
+      }
+    } else {
+      for (int k = 0; k < n; ++k) {
+        const double *bk = &p.b[3 * k];
+        for (int a = 0; a < DIM; ++a)
+          for (int l = 0; l < L; ++l) {
+            const double wu = p.w[k] * in[l].U[3 * k + a];
+            for (int c = 0; c < DIM; ++c) {
+              const double x = wu * bk[c];
+              put(k, a * DIM + c, l, x);
+              nall[a * DIM + c][l] += x;
+            }
+          }
+      }
+    }
+    for (int l = 0; l < L; ++l) {
+      double nl[NC], hl[NC];
+      for (int c = 0; c < NC; ++c) nl[c] = nall[c][l];
+      block_mul<DIM>(nl, p.kinv_full, hl);
+      for (int c = 0; c < NC; ++c) hfam[c][l] = hl[c];
+      out[l].F = identity_plus<DIM>(hl);
+      if (in[l].bond_law) in[l].bond_law->begin(out[l].F);
+    }
+  }
+
+  // the linear law's P_j of H_j (pb), with its energy and the mean of H
+  void linear_stress(int j, const double (&h)[NC][L], double (&pb)[NC][L])
+  {
+    double tr[L] = {};
+    for (int a = 0; a < DIM; ++a)
+      for (int l = 0; l < L; ++l) tr[l] += h[a * DIM + a][l];
+    for (int a = 0; a < DIM; ++a)
+      for (int c = 0; c < DIM; ++c)
+        for (int l = 0; l < L; ++l)
+          pb[a * DIM + c][l] =
+              mu[l] * (h[a * DIM + c][l] + h[c * DIM + a][l]) + (a == c ? lam[l] * tr[l] : 0.0);
+    if (energy)
+      for (int l = 0; l < L; ++l) {
+        double w2 = 0.0;
+        for (int c = 0; c < NC; ++c) w2 += pb[c][l] * h[c][l];
+        out[l].W += 0.5 * p.beta[j] * w2;
+      }
+    for (int c = 0; c < NC; ++c)
+      for (int l = 0; l < L; ++l) hmean[c][l] += p.beta[j] * h[c][l];
+  }
+
+  // any other law's P_j (pb) through the lane's law; false where undefined
+  bool law_stress(int j, const double (&h)[NC][L], double (&pb)[NC][L])
+  {
+    for (int l = 0; l < L; ++l) {
+      double hl[NC];
+      for (int c = 0; c < NC; ++c) hl[c] = h[c][l];
+      Mat3 F = identity_plus<DIM>(hl), P;
+      double W;
+      if (!(in[l].bond_law ? in[l].bond_law->stress(j, F, P, W)
+                           : first_piola(law, plane, *in[l].m, F, P, W))) {
+        out[l].bad = j;
+        out[l].bad_J = F.determinant();
+        return false;
+      }
+      out[l].P += p.beta[j] * P;
+      out[l].W += p.beta[j] * W;
+      f33[l] += p.beta[j] * F(2, 2);
+      for (int a = 0; a < DIM; ++a)
+        for (int c = 0; c < DIM; ++c) pb[a * DIM + c][l] = P(a, c);
+    }
+    return true;
+  }
+
+  // bond j: F_j = I + N_j K_j^-1, P_j and G_j; false where the law is undefined
+  bool bond(int j)
+  {
     double g[NC][L];
     if (p.singular[j]) {
       for (int c = 0; c < NC; ++c)
@@ -766,42 +633,8 @@ bool evaluate_families(const BondPattern &p, HSForm form, Law law, Plane plane,
             for (int m = 0; m < DIM; ++m) v += N[L * (a * DIM + m) + l] * Ki[m * DIM + b];
             h[a * DIM + b][l] = v;
           }
-      if (linear) {
-        double tr[L] = {};
-        for (int a = 0; a < DIM; ++a)
-          for (int l = 0; l < L; ++l) tr[l] += h[a * DIM + a][l];
-        for (int a = 0; a < DIM; ++a)
-          for (int c = 0; c < DIM; ++c)
-            for (int l = 0; l < L; ++l)
-              pb[a * DIM + c][l] = mu[l] * (h[a * DIM + c][l] + h[c * DIM + a][l]) +
-                  (a == c ? lam[l] * tr[l] : 0.0);
-        if (energy)
-          for (int l = 0; l < L; ++l) {
-            double w2 = 0.0;
-            for (int c = 0; c < NC; ++c) w2 += pb[c][l] * h[c][l];
-            out[l].W += 0.5 * p.beta[j] * w2;
-          }
-        for (int c = 0; c < NC; ++c)
-          for (int l = 0; l < L; ++l) hmean[c][l] += p.beta[j] * h[c][l];
-      } else {
-        for (int l = 0; l < L; ++l) {
-          double hl[NC];
-          for (int c = 0; c < NC; ++c) hl[c] = h[c][l];
-          Mat3 F = identity_plus<DIM>(hl), P;
-          double W;
-          if (!(in[l].bond_law ? in[l].bond_law->stress(j, F, P, W)
-                               : first_piola(law, plane, *in[l].m, F, P, W))) {
-            out[l].bad = j;
-            out[l].bad_J = F.determinant();
-            return false;
-          }
-          out[l].P += p.beta[j] * P;
-          out[l].W += p.beta[j] * W;
-          f33[l] += p.beta[j] * F(2, 2);
-          for (int a = 0; a < DIM; ++a)
-            for (int c = 0; c < DIM; ++c) pb[a * DIM + c][l] = P(a, c);
-        }
-      }
+      if (linear) linear_stress(j, h, pb);
+      else if (!law_stress(j, h, pb)) return false;
       const double cj = p.cforce[j];
       for (int a = 0; a < DIM; ++a)
         for (int b = 0; b < DIM; ++b)
@@ -816,17 +649,18 @@ bool evaluate_families(const BondPattern &p, HSForm form, Law law, Plane plane,
         if (form == HSForm::II) put(j, c, l, g[c][l]);
         else gI[NC * L * j + L * c + l] = g[c][l];
       }
-  }
-
-  if constexpr (DIM == 3 && L == 1) {
-    if (linear)
-      for (int a = 0; a < 3; ++a)
-        for (int b = 0; b < 3; ++b) hmean[3 * a + b][0] += hm[a][b];
+    return true;
   }
 
   // singular bond families: the family's F, P(F) K^-1 over the whole family
-  double gs[NC][L] = {};
-  if (cs_force > 0.0 || cs_beta > 0.0) {
+  bool fallback()
+  {
+    if constexpr (DIM == 3 && L == 1) {
+      if (linear)    // the 3D one-lane linear bonds' H, first
+        for (int a = 0; a < 3; ++a)
+          for (int b = 0; b < 3; ++b) hmean[3 * a + b][0] += hm[a][b];
+    }
+    if (!(cs_force > 0.0 || cs_beta > 0.0)) return true;
     for (int l = 0; l < L; ++l) {
       Mat3 F = out[l].F, P;
       double W;
@@ -848,51 +682,88 @@ bool evaluate_families(const BondPattern &p, HSForm form, Law law, Plane plane,
       block_mul<DIM>(pl, p.kinv_full, gl);
       for (int c = 0; c < NC; ++c) gs[c][l] = gl[c];
     }
+    return true;
   }
-  if (linear)
-    for (int l = 0; l < L; ++l) {
-      // the law is linear: the mean of the bonds' P is P of their mean H
-      double hl[NC];
-      for (int c = 0; c < NC; ++c) hl[c] = hmean[c][l];
-      Mat3 F = identity_plus<DIM>(hl);
-      double W;
-      first_piola(law, plane, *in[l].m, F, out[l].P, W);
-      f33[l] = F(2, 2);
-    }
-  // 2D output: the out-of-plane stretch is the bonds' mean, as the stress
-  // is (the family's F has none of its own in plane stress)
-  if constexpr (DIM == 2)
-    for (int l = 0; l < L; ++l) out[l].F(2, 2) = f33[l];
 
-  // Gbar_k: Form II sums G over the bond-associated family of k
-  if (form == HSForm::II) bond_sums<DIM, L>(p, s, sums);
-
-  // force state: t_k = Gbar_k b_k
-  for (int k = 0; k < n; ++k) {
-    double gk[NC][L];
-    if (form == HSForm::II) {
-      const double *row = sums + NC * L * k;
-      for (int c = 0; c < NC; ++c)
-        for (int l = 0; l < L; ++l) gk[c][l] = row[L * c + l] + cs_force * gs[c][l];
-    } else if (p.singular[k]) {
-      for (int c = 0; c < NC; ++c)
-        for (int l = 0; l < L; ++l) gk[c][l] = p.cforce[k] * gs[c][l];
-    } else {
-      const double *row = gI + NC * L * k;
-      for (int c = 0; c < NC; ++c)
-        for (int l = 0; l < L; ++l) gk[c][l] = row[L * c + l];
-    }
-    const double *bk = &p.b[3 * k];
-    for (int l = 0; l < L; ++l) {
-      double *tk = in[l].t + 3 * k;
-      for (int a = 0; a < DIM; ++a) {
-        double v = 0.0;
-        for (int c = 0; c < DIM; ++c) v += gk[a * DIM + c][l] * bk[c];
-        tk[a] = v;
+  // the family's mean stress: under the linear law P of the bonds' mean H;
+  // in 2D the out-of-plane stretch is the bonds' mean, as the stress is
+  void mean_stress()
+  {
+    if (linear)
+      for (int l = 0; l < L; ++l) {
+        double hl[NC];
+        for (int c = 0; c < NC; ++c) hl[c] = hmean[c][l];
+        Mat3 F = identity_plus<DIM>(hl);
+        double W;
+        first_piola(law, plane, *in[l].m, F, out[l].P, W);
+        f33[l] = F(2, 2);
       }
-      if (DIM == 2) tk[2] = 0.0;
+    if constexpr (DIM == 2)
+      for (int l = 0; l < L; ++l) out[l].F(2, 2) = f33[l];
+  }
+
+  // force state: t_k = Gbar_k b_k (Form II: the second sum is in sums)
+  void force_state()
+  {
+    for (int k = 0; k < n; ++k) {
+      double gk[NC][L];
+      if (form == HSForm::II) {
+        const double *row = sums + NC * L * k;
+        for (int c = 0; c < NC; ++c)
+          for (int l = 0; l < L; ++l) gk[c][l] = row[L * c + l] + cs_force * gs[c][l];
+      } else if (p.singular[k]) {
+        for (int c = 0; c < NC; ++c)
+          for (int l = 0; l < L; ++l) gk[c][l] = p.cforce[k] * gs[c][l];
+      } else {
+        const double *row = gI + NC * L * k;
+        for (int c = 0; c < NC; ++c)
+          for (int l = 0; l < L; ++l) gk[c][l] = row[L * c + l];
+      }
+      const double *bk = &p.b[3 * k];
+      for (int l = 0; l < L; ++l) {
+        double *tk = in[l].t + 3 * k;
+        for (int a = 0; a < DIM; ++a) {
+          double v = 0.0;
+          for (int c = 0; c < DIM; ++c) v += gk[a * DIM + c][l] * bk[c];
+          tk[a] = v;
+        }
+        if (DIM == 2) tk[2] = 0.0;
+      }
     }
   }
+};
+
+/* Evaluate L families that share the pattern p.  The force state of each
+   is T_i<xi_k> = omega_k t_k.  The energy is summed only if asked for.
+   Returns false where the law is undefined (det F <= 0); out[l].bad names
+   the bond of the lane that failed. */
+template <int DIM, int L>
+bool evaluate_families(const BondPattern &p, HSForm form, Law law, Plane plane,
+                       const LaneInput *in, bool energy, StateScratch &s, StateOutput *out)
+{
+  const int n = p.n;
+  for (int l = 0; l < L; ++l) {
+    out[l].P.setZero();
+    out[l].W = 0.0;
+    out[l].fallback = 0;
+    out[l].F = Mat3::Identity();
+  }
+  if (p.atom_singular) {
+    for (int l = 0; l < L; ++l)
+      for (int k = 0; k < 3 * n; ++k) in[l].t[k] = 0.0;
+    return true;
+  }
+  s.reserve(n, std::max(n, p.program.nrow), L);
+  FamilyPass<DIM, L> e(p, form, law, plane, in, energy, s, out);
+  e.family_rows();
+  bond_sums<DIM, L>(p, s, e.sums);
+  for (int j = 0; j < n; ++j)
+    if (!e.bond(j)) return false;
+  if (!e.fallback()) return false;
+  e.mean_stress();
+  // Gbar_k: Form II sums G over the bond-associated family of k
+  if (form == HSForm::II) bond_sums<DIM, L>(p, s, e.sums);
+  e.force_state();
   return true;
 }
 

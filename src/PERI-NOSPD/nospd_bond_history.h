@@ -38,6 +38,7 @@
 #define NOSPD_BOND_HISTORY_H
 
 #include "nospd_bond_associated.h"
+#include "nospd_material.h"
 #include "nospd_plasticity.h"
 #include "nospd_umat.h"
 
@@ -263,6 +264,53 @@ class FamilyUmat : public BondLaw, public FamilyRows {
 
  private:
   Mat3 Ffam = Mat3::Identity();
+  std::vector<double> acc;
+};
+
+/* Any law of the material-point interface (nospd_material.h) on one
+   bond-associated family: every bond is a material point of its own with
+   an entry of the law's history per partner slot; the family's row holds
+   an entry of beta-weighted means (the output, in the law's layout: Hist's
+   columns for a plasticity law), its dissipation column (WORK) the sum of
+   the bonds' increments, and from `fallback` on the entry of the whole
+   family's F.  A new law needs nothing here. */
+class FamilyMaterial : public BondLaw, public FamilyRows {
+ public:
+  static constexpr int WORK = Hist::WORK;    // the interface's dissipation column
+  const Material *mat = nullptr;
+  MaterialEnv env;
+  PointStatus status;
+
+  // the family row's entries: the means, then the whole family's
+  static int family_size(const Material &m) { return 2 * m.history_size(); }
+  int fallback() const { return mat->history_size(); }
+
+  void begin(const Mat3 &) override
+  {
+    status = PointStatus();
+    acc.assign(mat->history_size(), 0.0);
+  }
+
+  bool stress(int slot, Mat3 &F, Mat3 &P, double &W) override
+  {
+    const int off = slot < 0 ? fallback() : entry(slot);
+    status = mat->stress(F, hn + off, h1 + off, env, P, W);
+    if (!status.ok()) return false;
+    const double beta = slot < 0 ? fallback_beta() : pattern->beta[slot];
+    const int n = mat->history_size();
+    for (int k = 0; k < n; ++k)
+      acc[k] += beta * (k == WORK ? h1[off + k] - hn[off + k] : h1[off + k]);
+    return true;
+  }
+
+  // the family's row after its bonds
+  void finish()
+  {
+    const int n = mat->history_size();
+    for (int k = 0; k < n; ++k) h1[k] = (k == WORK ? hn[k] : 0.0) + acc[k];
+  }
+
+ private:
   std::vector<double> acc;
 };
 

@@ -30,6 +30,14 @@ namespace NOSPD {
 //   history, so it has no point form here.
 enum class Law { SMALL, COROTATIONAL, SVK, NEOHOOKE, HENCKY, USER, UMAT_SMALL, UMAT_FINITE };
 
+// a law's name as the strain keyword gives it, for messages
+inline const char *law_keyword(Law law)
+{
+  static const char *names[] = {"small", "finite", "svk", "neohookean", "hencky", "formula",
+                                "umat", "umat/finite"};
+  return names[static_cast<int>(law)];
+}
+
 // laws whose stress is sigma of the small strain, P = sigma
 inline bool small_kinematics(Law law) { return law == Law::SMALL || law == Law::UMAT_SMALL; }
 

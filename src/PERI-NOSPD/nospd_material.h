@@ -16,6 +16,7 @@
 
 #include "nospd_constitutive.h"
 #include "nospd_drucker_prager.h"
+#include "nospd_plastic_tangent.h"
 #include "nospd_plasticity.h"
 #include "nospd_umat.h"
 
@@ -87,11 +88,16 @@ class J2Material : public Material {
     if (st == ReturnStatus::OK) return {};
     return {PointStatus::RETURN, static_cast<int>(st)};
   }
-  // small strain, 3D or plane strain; Johnson-Cook and hencky have none here
+  // small strain and hencky, every hardening, 3D or plane strain (the 3D
+  // point); plane stress has none (nospd_plastic_tangent.h says why)
   bool tangent(const Mat3 &F, const double *hn, const MaterialEnv &env, Tangent9 &D) const override
   {
-    if (law != Law::SMALL || plane == Plane::STRESS) return false;
-    return j2_small_tangent(m, fl, th, env.T, F, hn, D);
+    if (plane == Plane::STRESS) return false;
+    PointEnv pe;
+    pe.dt = env.dt;
+    pe.T_base = env.T;
+    pe.rho = env.rho;
+    return j2_tangent(law, m, fl, th, pe, F, hn, D);
   }
 
  private:

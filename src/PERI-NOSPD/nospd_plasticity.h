@@ -388,6 +388,44 @@ inline double strain_rate(Law law, const Mat3 &F, const double *hn, double dt)
   return std::sqrt(2.0 / 3.0) * D.norm() / dt;
 }
 
+namespace detail {
+  // both returns of a step start from hn's rate and temperature: their
+  // FlowLaw::factor, once (the step's own rate goes to the new history only)
+  inline PointEnv frozen_env(const FlowLaw &fl, const PointEnv &env, const double *hn)
+  {
+    PointEnv env1 = env;
+    if (fl.active && !env1.has_factor) {
+      env1.has_factor = true;
+      env1.factor = fl.factor(env.dt > 0.0 ? hn[Hist::RATE] : 0.0, env.T_base + hn[Hist::HEAT]);
+    }
+    return env1;
+  }
+
+  /* The history a step starts from: hn, or (Johnson-Cook) hn returned onto
+     the surface of env1's factor at its own accepted F, written to hr, with
+     the elastic energy that relaxation releases.  A function of hn and env
+     alone, not of the step's F. */
+  inline const double *relaxed_start(Law law, const Lame &m, const FlowLaw &fl,
+                                     const ThermalLaw &th, const PointEnv &env1, const double *hn,
+                                     double *hr, double &released)
+  {
+    released = 0.0;
+    if (!fl.active || fl.kind != Hardening::JOHNSON_COOK) return hn;
+    Mat3 Pr;
+    double Wr, Wtr;
+    const Mat3 Fa = Mat3::Identity() + load(hn + Hist::FPREV);
+    if (point_core(law, m, fl, th, env1, Fa, hn, hr, Pr, Wr, Wtr) != ReturnStatus::OK ||
+        !(hr[Hist::YIELDING] > 0.0))
+      return hn;
+    released = Wtr - Wr;
+    // booked after the step, so that the step's thermal strain and flow
+    // stress take the lagged heat as every other step does
+    hr[Hist::WORK] = hn[Hist::WORK];
+    hr[Hist::HEAT] = hn[Hist::HEAT];
+    return hr;
+  }
+}    // namespace detail
+
 /* One material point in 3D: P and the stored energy W_e from F and the
    history of the start of the step hn; writes the history of the end of
    the step to h1 (hn is never modified, so trial evaluations repeat
@@ -405,29 +443,10 @@ inline ReturnStatus inelastic_point_3d(Law law, const Lame &m, const FlowLaw &fl
                                        const ThermalLaw &th, const PointEnv &env, const Mat3 &F,
                                        const double *hn, double *h1, Mat3 &P, double &W)
 {
-  // both returns below start from hn: one factor of its rate and temperature
-  PointEnv env1 = env;
-  if (fl.active && !env1.has_factor) {
-    env1.has_factor = true;
-    env1.factor = fl.factor(env.dt > 0.0 ? hn[Hist::RATE] : 0.0, env.T_base + hn[Hist::HEAT]);
-  }
-  const double *start = hn;
+  const PointEnv env1 = detail::frozen_env(fl, env, hn);
   double hr[Hist::SIZE];
-  double released = 0.0;
-  if (fl.active && fl.kind == Hardening::JOHNSON_COOK) {
-    Mat3 Pr;
-    double Wr, Wtr;
-    const Mat3 Fa = Mat3::Identity() + load(hn + Hist::FPREV);
-    if (detail::point_core(law, m, fl, th, env1, Fa, hn, hr, Pr, Wr, Wtr) == ReturnStatus::OK &&
-        hr[Hist::YIELDING] > 0.0) {
-      released = Wtr - Wr;
-      // booked after the step, so that the step's thermal strain and flow
-      // stress take the lagged heat as every other step does
-      hr[Hist::WORK] = hn[Hist::WORK];
-      hr[Hist::HEAT] = hn[Hist::HEAT];
-      start = hr;
-    }
-  }
+  double released;
+  const double *start = detail::relaxed_start(law, m, fl, th, env1, hn, hr, released);
   double W_trial;
   const ReturnStatus st = detail::point_core(law, m, fl, th, env1, F, start, h1, P, W, W_trial);
   if (st != ReturnStatus::OK) return st;
@@ -439,44 +458,6 @@ inline ReturnStatus inelastic_point_3d(Law law, const Lame &m, const FlowLaw &fl
   }
   store(F - Mat3::Identity(), h1 + Hist::FPREV);
   return ReturnStatus::OK;
-}
-
-/* The consistent tangent dP/dF of the small-strain return from hn at F
-   (3D or plane strain; flow laws whose stress does not depend on rate and
-   temperature through the step: LINEAR and POWER hardening), with n the
-   unit deviatoric direction of the trial eta = dev(sigma_trial) - beta,
-   q = sqrt(3/2)|eta|, d the plastic increment and h the hardening slope at
-   a_n + d:
-       D = C - 6 mu^2 / (3 mu + Hkin + h) n (x) n - 6 mu^2 d / q (I_dev - n (x) n)
-   (the radial return's, de Souza Neto et al. 2008, section 7.4), times
-   d sym(F)/dF. */
-inline bool j2_small_tangent(const Lame &m, const FlowLaw &fl, const ThermalLaw &th,
-                             double T_base, const Mat3 &F, const double *hn, Tangent9 &D)
-{
-  if (fl.kind == Hardening::JOHNSON_COOK) return false;
-  const Mat3 I = Mat3::Identity();
-  const double eth = th.alpha * (T_base + hn[Hist::HEAT] - th.T_ref);
-  const Mat3 e = 0.5 * (F + F.transpose()) - I - load_sym(hn + Hist::PLASTIC) - eth * I;
-  const Tangent9 Isym = sym_identity(), II = outer(I, I);
-  D = m.lambda * II + 2.0 * m.mu * Isym;
-  if (fl.active) {
-    const Mat3 stress = m.lambda * e.trace() * I + 2.0 * m.mu * e;
-    const Mat3 eta = stress - (stress.trace() / 3.0) * I - load_sym(hn + Hist::BACK);
-    const double norm = eta.norm(), q = std::sqrt(1.5) * norm, a_n = hn[Hist::EQPS];
-    double s0;
-    const double sy = fl.flow_at(a_n, 1.0, s0);
-    if (q > sy && norm > 0.0) {
-      double d = 0.0, h;
-      if (!detail::solve_return(fl, m.mu, q, a_n, 1.0, sy, s0, d)) return false;
-      fl.flow_at(a_n + d, 1.0, h);
-      const Mat3 n = eta / norm;
-      const double mu2 = 6.0 * m.mu * m.mu;
-      const Tangent9 nn = outer(n, n);
-      D -= mu2 / (3.0 * m.mu + fl.Hkin + h) * nn + mu2 * d / q * (Isym - II / 3.0 - nn);
-    }
-  }
-  D = D * Isym;
-  return D.allFinite();
 }
 
 /* The same under the plane assumption (plane stress solves F33 for P33 = 0

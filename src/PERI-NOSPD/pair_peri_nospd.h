@@ -70,6 +70,13 @@ class PairPeriNospd : public Pair {
   int stabilization_kind() const { return static_cast<int>(stab); }
   // built-in inelastic materials (history kept by the bonds fix)
   bool has_history(int itype) const { return inelastic[itype] == POINT_PLASTIC; }
+  // a type with history that the bond-associated style runs per bond through
+  // the material interface alone (NOSPD::FamilyMaterial): Drucker-Prager
+  bool bond_material(int itype) const
+  {
+    return has_history(itype) && drucker_prager[itype].active;
+  }
+  const NOSPD::Material &material_law(int itype) const { return *materials[itype]; }
   // a type whose stress comes from a UMAT (history in UmatHist's layout)
   bool is_umat(int itype) const { return inelastic[itype] == POINT_UMAT; }
   const NOSPD::FlowLaw &flow_law(int itype) const { return flow[itype]; }
@@ -238,6 +245,29 @@ class PairPeriNospd : public Pair {
   void warn_barostats(const std::string &cmd);
   void raise_hybrid_comm_forward();
   void set_stiffness_bound(NospdBondModel &m);
+  // the steps of parse_inelastic (pair_peri_nospd_input.cpp)
+  std::vector<double> keyword_values(const std::vector<std::string> &words, size_t &k, size_t n,
+                                     const std::string &key, const std::string &where) const;
+  void flow_law_exclusions(const std::vector<std::string> &words, NOSPD::FlowLaw &fl,
+                           NOSPD::DruckerPrager &dp, const std::string &where) const;
+  size_t hardening_of(const std::vector<std::string> &words, size_t k, NOSPD::FlowLaw &fl,
+                      const std::string &where) const;
+  void check_flow_law(const NOSPD::FlowLaw &fl, const NOSPD::ThermalLaw &th,
+                      const NOSPD::DruckerPrager &dp, const std::string &where) const;
+  // the steps of settings: which keywords were given, the keywords, the checks
+  struct SettingsGiven {
+    bool plane = false, thickness = false, singular = false, damaged = false;
+  };
+  int model_keyword(const std::string &cmd, int narg, char **arg, int iarg);
+  int geometry_keyword(const std::string &cmd, int narg, char **arg, int iarg,
+                       SettingsGiven &given);
+  void check_settings(const std::string &cmd, const SettingsGiven &given);
+  // the steps of init_style (pair_peri_nospd_init.cpp)
+  void check_run_environment(const std::string &cmd);
+  void check_points(const std::string &cmd);
+  void setup_type_constants();
+  int setup_laws(const std::string &cmd);
+  void configure_bonds_fix(int history_size);
   // the bond-associated style bounds its own force for the stable time step
   // (NospdBondModel::family_rows); none here: the bonds fix bounds pass 2's
   virtual std::function<void(std::vector<double> &)> family_row_bound() { return {}; }

@@ -125,6 +125,12 @@ class PairPeriNospdHS : public PairPeriNospd {
   std::vector<double> inv_vfrac;           // 1/V, owned and ghost atoms
 
   void map_families();
+  // the steps of map_families
+  void match_families(std::vector<int> &npat, std::vector<int> &nfirst, std::vector<int> &ncount,
+                      std::vector<tagint> &ntag, std::vector<uint16_t> &nperm);
+  void drop_unused_patterns(std::vector<int> &npat, std::vector<int> &users,
+                            std::vector<int> &renum);
+  void count_fallbacks();
   int match_pattern(int i, std::vector<uint16_t> &perm);
   void report_patterns();
   template <int DIM, int VIRIAL> void force_pass(int eflag, bool stencil_step);
@@ -136,10 +142,12 @@ class PairPeriNospdHS : public PairPeriNospd {
   void gather_family(int i, const NOSPD::BondPattern &p, const uint16_t *perm, FamilyWork &w,
                      int lane);
   // inelastic families: their law with history per bond-associated family
-  // (built-in plasticity or a UMAT); `active` is the one in use, if any
+  // (built-in J2/Johnson-Cook, a UMAT, or any other law of the material
+  // interface); `active` is the one in use, if any
   struct LaneLaws {
     NOSPD::FamilyPlasticity plastic;
     NOSPD::FamilyUmat umat;
+    NOSPD::FamilyMaterial material;
     NOSPD::BondLaw *active = nullptr;
   };
   void begin_history(int i, const NOSPD::BondPattern &p, FamilyWork &w, int lane,
@@ -176,6 +184,17 @@ class PairPeriNospdHS : public PairPeriNospd {
   int comm_mode;                            // forward comm: 0 classical B, 1 key, 2 flag
   bool stencils_stale;                      // the families were remapped since
   void map_stencils();
+  // the steps of map_stencils
+  void family_keys(const std::vector<int> &users, std::vector<const NOSPD::Stencil *> &st_of,
+                   std::map<double, std::pair<int, int>> &family_of);
+  bool stencil_grid(const std::vector<int> &users,
+                    const std::vector<const NOSPD::Stencil *> &st_of, double *h,
+                    std::vector<std::array<int, 3>> &coords, long *stride);
+  bigint map_grid_points(const std::vector<const NOSPD::Stencil *> &st_of,
+                         const std::vector<std::array<int, 3>> &coords, const long *stride,
+                         const double *h, std::map<const NOSPD::Stencil *, int> &run_of);
+  void order_stencil_runs();
+  void families_off_stencil();
   const NOSPD::Stencil *stencil_for(int pattern, int type);
   bool build_cell_grid(const double *h, std::vector<std::array<int, 3>> &coords,
                        long stride[3]);
@@ -193,6 +212,13 @@ class PairPeriNospdHS : public PairPeriNospd {
   void build_point_stencils(const std::vector<std::pair<const std::vector<int64_t> *, int>> &needs,
                             const double *h,
                             const std::map<double, std::pair<int, int>> &family_of);
+  struct PointPlan;
+  void plan_point_stencils(const std::vector<std::pair<const std::vector<int64_t> *, int>> &needs,
+                           const double *h, const std::map<double, std::pair<int, int>> &family_of,
+                           PointPlan &P);
+  void assemble_point_stencils(
+      const std::vector<std::pair<const std::vector<int64_t> *, int>> &needs, const double *h,
+      PointPlan &P);
   void ghosts_for_stencil();
   void restore_ghost_cutoff();
   // the user's comm cutoff this style replaced, and the value it set (-1: none)
@@ -206,6 +232,38 @@ class PairPeriNospdHS : public PairPeriNospd {
   std::vector<double> stab_energy;    // Silling energy density per owned atom
   void stabilization_pass(int eflag);
 };
+
+// tuning of pattern sharing and the stencil accelerator (pair_peri_nospd_hs_*.cpp)
+namespace HSTuning {
+// offsets are matched to patterns after rounding to this fraction of the
+// horizon: far below any spacing, far above the round-off of x0 differences
+constexpr double KEY_QUANTUM = 1.0e-10;
+// weights of two families of one pattern agree to this relative tolerance
+constexpr double WEIGHT_TOL = 1.0e-12;
+// patterns shared by at least this many families get a sum program (its
+// construction costs about as much as evaluating a few hundred families)
+constexpr int PROGRAM_USERS = 64;
+// a neighbourhood shared by at least this many points gets a one-sided
+// stencil (its assembly costs about as much as evaluating a hundred
+// families, besides the operators of the families it reads)
+constexpr int POINT_STENCIL_USERS = 4;
+// the one-sided stencils' assembly holds a dense cube of blocks per
+// neighbourhood: at most this many bytes of them at once
+constexpr double POINT_STENCIL_BATCH_BYTES = 256.0e6;
+// the stencil pass takes points in blocks of this many (its kernel's loop
+// over them is its own)
+constexpr int STENCIL_BLOCK = 64;
+
+
+// FNV-1a over a pattern's quantized offsets
+inline uint64_t key_hash(const std::vector<int64_t> &key)
+{
+  uint64_t h = 1469598103934665603ULL;
+  for (int64_t v : key) h = (h ^ (uint64_t) v) * 1099511628211ULL;
+  return h;
+}
+
+}    // namespace HSTuning
 
 }    // namespace LAMMPS_NS
 

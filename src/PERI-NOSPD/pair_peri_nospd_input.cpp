@@ -7,7 +7,11 @@
 
 #include "pair_peri_nospd.h"
 
+#include "atom.h"
 #include "comm.h"
+#include "domain.h"
+#include "fix_nospd_bonds.h"
+#include "modify.h"
 #include "error.h"
 #include "force.h"
 #include "tokenizer.h"
@@ -22,7 +26,17 @@
 #include <vector>
 
 using namespace LAMMPS_NS;
+using NOSPD::Law;
 using NOSPD::Mat3;
+using NOSPD::Plane;
+
+// a whole word read by strtod: a number, inf and nan included
+static bool parses_as_number(const char *word)
+{
+  char *end = nullptr;
+  strtod(word, &end);
+  return end != word && *end == '\0';
+}
 
 
 /* ----------------------------------------------------------------------
@@ -45,28 +59,7 @@ void PairPeriNospd::parse_inelastic(const std::vector<std::string> &words, NOSPD
                                     NospdUserMaterials::Spec &us,
                                     bool &thermal_ref_given, const std::string &where) const
 {
-  using NOSPD::Hardening;
-  // the flow law: J2 (yield, hardening) and Johnson-Cook exclude each other
-  // within one list, in any order; a list that names either replaces the
-  // other law of an earlier list (the line's keywords override the file's)
-  auto has = [&](const char *kw) { return std::find(words.begin(), words.end(), kw) != words.end(); };
-  const bool has_jc = has("johnson_cook"), has_yield = has("yield");
-  if (has_jc && (has_yield || has("hardening")))
-    error->all(FLERR, "{}: johnson_cook excludes yield and hardening (A is the yield stress, "
-               "B and n the hardening)", where);
-  // drucker_prager and the J2 laws replace each other the same way
-  if (has("drucker_prager") && (has_jc || has_yield))
-    error->all(FLERR, "{}: drucker_prager excludes yield and johnson_cook (one flow law)", where);
-  if (has("drucker_prager")) fl = NOSPD::FlowLaw();
-  if (has_jc || has_yield) dp = NOSPD::DruckerPrager();
-  if (has_jc || (has_yield && fl.kind == Hardening::JOHNSON_COOK)) {
-    const double hkin = fl.Hkin;
-    fl = NOSPD::FlowLaw();
-    fl.Hkin = hkin;
-  }
-  if (has("hardening") && !has_yield && fl.kind == Hardening::JOHNSON_COOK)
-    error->all(FLERR, "{}: hardening applies to a yield stress (keyword yield); johnson_cook "
-               "has its own (B, n)", where);
+  flow_law_exclusions(words, fl, dp, where);
   us.listed.clear();    // this list's params may replace the file's, not each other
   std::vector<std::string> seen;    // keywords of this list (param has its own rule)
   size_t k = 0;
@@ -78,43 +71,14 @@ void PairPeriNospd::parse_inelastic(const std::vector<std::string> &words, NOSPD
                    "override a material file's, but one list names each keyword once)", where, key);
       seen.push_back(key);
     }
-    auto values = [&](size_t n) {
-      if (k + n >= words.size())
-        error->all(FLERR, "{}: keyword {} needs {} value(s)", where, key, n);
-      std::vector<double> v(n);
-      for (size_t m = 0; m < n; m++) {
-        v[m] = NOSPD_INPUT::real(error, where, "keyword " + key, words[k + 1 + m]);
-      }
-      k += n + 1;
-      return v;
-    };
+    auto values = [&](size_t n) { return keyword_values(words, k, n, key, where); };
     if (key == "yield") {
       const auto v = values(1);
       if (!(v[0] > 0.0)) error->all(FLERR, "{}: yield stress must be > 0, got {}", where, v[0]);
       fl.active = true;
       fl.sigma_y0 = v[0];
     } else if (key == "hardening") {
-      if (k + 1 >= words.size()) error->all(FLERR, "{}: hardening needs linear H or power K n", where);
-      const std::string kind = words[k + 1];
-      k++;
-      if (kind == "linear") {
-        const auto v = values(1);
-        if (!(v[0] >= 0.0))
-          error->all(FLERR, "{}: hardening linear H = {} would make the flow stress fall; "
-                     "H must be >= 0", where, v[0]);
-        fl.kind = Hardening::LINEAR;
-        fl.H = v[0];
-      } else if (kind == "power") {
-        const auto v = values(2);
-        if (!(v[0] >= 0.0))
-          error->all(FLERR, "{}: hardening power K = {} would make the flow stress fall; "
-                     "K must be >= 0", where, v[0]);
-        if (!(v[1] > 0.0)) error->all(FLERR, "{}: hardening power exponent n must be > 0, got {}", where, v[1]);
-        fl.kind = Hardening::POWER;
-        fl.K = v[0];
-        fl.n = v[1];
-      } else
-        error->all(FLERR, "{}: unknown hardening '{}' (linear H, power K n)", where, kind);
+      k = hardening_of(words, k, fl, where);
     } else if (key == "kinematic") {
       const auto v = values(1);
       if (!(v[0] >= 0.0)) error->all(FLERR, "{}: kinematic hardening modulus must be >= 0, got {}", where, v[0]);
@@ -148,6 +112,98 @@ void PairPeriNospd::parse_inelastic(const std::vector<std::string> &words, NOSPD
                  "statev)",
                  where, key);
   }
+  check_flow_law(fl, th, dp, where);
+}
+
+/* ----------------------------------------------------------------------
+   the n numbers after words[k] (keyword key); k moves past them
+------------------------------------------------------------------------- */
+
+std::vector<double> PairPeriNospd::keyword_values(const std::vector<std::string> &words,
+                                                  size_t &k, size_t n, const std::string &key,
+                                                  const std::string &where) const
+{
+  if (k + n >= words.size()) error->all(FLERR, "{}: keyword {} needs {} value(s)", where, key, n);
+  std::vector<double> v(n);
+  for (size_t m = 0; m < n; m++)
+    v[m] = NOSPD_INPUT::real(error, where, "keyword " + key, words[k + 1 + m]);
+  k += n + 1;
+  return v;
+}
+
+/* ----------------------------------------------------------------------
+   the flow law: J2 (yield, hardening) and Johnson-Cook exclude each other
+   within one list, in any order; a list that names either replaces the
+   other law of an earlier list (the line's keywords override the file's);
+   drucker_prager and the J2 laws replace each other the same way
+------------------------------------------------------------------------- */
+
+void PairPeriNospd::flow_law_exclusions(const std::vector<std::string> &words,
+                                        NOSPD::FlowLaw &fl, NOSPD::DruckerPrager &dp,
+                                        const std::string &where) const
+{
+  using NOSPD::Hardening;
+  auto has = [&](const char *kw) { return std::find(words.begin(), words.end(), kw) != words.end(); };
+  const bool has_jc = has("johnson_cook"), has_yield = has("yield");
+  if (has_jc && (has_yield || has("hardening")))
+    error->all(FLERR, "{}: johnson_cook excludes yield and hardening (A is the yield stress, "
+               "B and n the hardening)", where);
+  if (has("drucker_prager") && (has_jc || has_yield))
+    error->all(FLERR, "{}: drucker_prager excludes yield and johnson_cook (one flow law)", where);
+  if (has("drucker_prager")) fl = NOSPD::FlowLaw();
+  if (has_jc || has_yield) dp = NOSPD::DruckerPrager();
+  if (has_jc || (has_yield && fl.kind == Hardening::JOHNSON_COOK)) {
+    const double hkin = fl.Hkin;
+    fl = NOSPD::FlowLaw();
+    fl.Hkin = hkin;
+  }
+  if (has("hardening") && !has_yield && fl.kind == Hardening::JOHNSON_COOK)
+    error->all(FLERR, "{}: hardening applies to a yield stress (keyword yield); johnson_cook "
+               "has its own (B, n)", where);
+}
+
+/* ----------------------------------------------------------------------
+   hardening linear H | power K n at words[k]: the index after its values
+------------------------------------------------------------------------- */
+
+size_t PairPeriNospd::hardening_of(const std::vector<std::string> &words, size_t k,
+                                   NOSPD::FlowLaw &fl, const std::string &where) const
+{
+  using NOSPD::Hardening;
+  const std::string key = words[k];
+  auto values = [&](size_t n) { return keyword_values(words, k, n, key, where); };
+  if (k + 1 >= words.size()) error->all(FLERR, "{}: hardening needs linear H or power K n", where);
+  const std::string kind = words[k + 1];
+  k++;
+  if (kind == "linear") {
+    const auto v = values(1);
+    if (!(v[0] >= 0.0))
+      error->all(FLERR, "{}: hardening linear H = {} would make the flow stress fall; "
+                 "H must be >= 0", where, v[0]);
+    fl.kind = Hardening::LINEAR;
+    fl.H = v[0];
+  } else if (kind == "power") {
+    const auto v = values(2);
+    if (!(v[0] >= 0.0))
+      error->all(FLERR, "{}: hardening power K = {} would make the flow stress fall; "
+                 "K must be >= 0", where, v[0]);
+    if (!(v[1] > 0.0)) error->all(FLERR, "{}: hardening power exponent n must be > 0, got {}", where, v[1]);
+    fl.kind = Hardening::POWER;
+    fl.K = v[0];
+    fl.n = v[1];
+  } else
+    error->all(FLERR, "{}: unknown hardening '{}' (linear H, power K n)", where, kind);
+  return k;
+}
+
+/* ----------------------------------------------------------------------
+   the flow law as a whole: keywords that need another one
+------------------------------------------------------------------------- */
+
+void PairPeriNospd::check_flow_law(const NOSPD::FlowLaw &fl, const NOSPD::ThermalLaw &th,
+                                   const NOSPD::DruckerPrager &dp, const std::string &where) const
+{
+  using NOSPD::Hardening;
   if (fl.kind == Hardening::JOHNSON_COOK && (fl.H != 0.0))
     error->all(FLERR, "{}: hardening and johnson_cook exclude each other", where);
   if (!fl.active && (fl.H != 0.0 || fl.K != 0.0 || fl.Hkin != 0.0))
@@ -506,3 +562,173 @@ double PairPeriNospd::inline_number(const std::string &cmd, const char *what, co
   return NOSPD_INPUT::real(error, cmd, what, arg);
 }
 
+/* ----------------------------------------------------------------------
+   Poisson's ratio against the plane and strain settings: at pair_coeff and
+   again at init, since a later pair_style line may change those settings
+------------------------------------------------------------------------- */
+
+void PairPeriNospd::check_poisson(const std::string &where, double nu) const
+{
+  if (!(nu > -1.0 && nu < 0.5) && plane_mode != Plane::STRESS)
+    error->all(FLERR, "{}: Poisson ratio nu must be in (-1, 0.5), got {}", where, nu);
+  if (!(nu > -1.0 && nu < 1.0))
+    error->all(FLERR, "{}: Poisson ratio nu must be in (-1, 1) in plane stress, got {}", where, nu);
+  if (plane_mode == Plane::STRESS && strain_law != Law::SMALL && !(nu < 0.5))
+    error->all(FLERR, "{}: finite-strain plane stress needs nu < 0.5, got {}", where, nu);
+}
+
+/* ----------------------------------------------------------------------
+   pair_coeff I J E nu delta [keyword values ...]
+   pair_coeff I J file name delta [keyword values ...]   (material from a potentials/ file)
+   pair_coeff I J delta                                  (horizon of a cross pair only)
+   A material belongs to a type: it applies to the types in both ranges.
+   The keywords (inelastic laws) may also follow the numbers of a material
+   file entry; those on the pair_coeff line come after and override them.
+------------------------------------------------------------------------- */
+
+void PairPeriNospd::coeff(int narg, char **arg)
+{
+  const std::string cmd = std::string("pair_coeff (") + force->pair_style + ")";
+  if (narg != 3 && narg < 5)
+    error->all(FLERR, "{}: expected 'I J E nu delta', 'I J file name delta' or 'I J delta'", cmd);
+  if (!allocated) allocate();
+
+  int ilo, ihi, jlo, jhi;
+  NOSPD_INPUT::check_type_range(error, cmd, arg[0]);
+  NOSPD_INPUT::check_type_range(error, cmd, arg[1]);
+  utils::bounds(FLERR, arg[0], 1, atom->ntypes, ilo, ihi, error);
+  utils::bounds(FLERR, arg[1], 1, atom->ntypes, jlo, jhi, error);
+
+  const int idelta = (narg == 3) ? 2 : 4;
+  const double delta = NOSPD_INPUT::real(error, cmd, "horizon delta", arg[idelta]);
+  if (!(delta > 0.0)) error->all(FLERR, "{}: horizon delta must be > 0, got {}", cmd, arg[idelta]);
+
+  bool has_material = (narg >= 5);
+  double E = 0.0, nu = 0.0, G0 = 0.0;
+  std::string name;
+  NOSPD::FlowLaw fl;
+  NOSPD::ThermalLaw th;
+  NOSPD::DruckerPrager dp;
+  NospdUserMaterials::Spec us;
+  bool thermal_ref_given = false;    // by a thermal keyword of the file or the line
+  if (has_material) {
+    std::string where = cmd;    // names the file entry the numbers come from
+    if (utils::is_double(arg[2]) || parses_as_number(arg[2])) {
+      E = inline_number(cmd, "Young's modulus E", arg[2]);
+      nu = inline_number(cmd, "Poisson ratio nu", arg[3]);
+      name = "inline";
+    } else {
+      name = arg[3];
+      const FileMaterial m = read_material_file(arg[2], name);
+      where = fmt::format("{}: material '{}' of file {} (line {})", cmd, name, arg[2], m.line);
+      check_file_material(where, m);
+      E = m.E;
+      nu = m.nu;
+      G0 = m.G0;
+      if (!m.extra.empty())
+        parse_inelastic(m.extra, fl, th, dp, us, thermal_ref_given,
+                        fmt::format("material {} in {}", name, arg[2]));
+    }
+    check_modulus(where, E);
+    check_poisson(where, nu);
+    const std::vector<std::string> words(arg + 5, arg + narg);
+    parse_inelastic(words, fl, th, dp, us, thermal_ref_given, cmd);
+  }
+
+  int count = 0, nmat = 0;
+  for (int i = ilo; i <= ihi; i++) {
+    if (has_material && i >= jlo && i <= jhi) {
+      youngs[i] = E;
+      poisson[i] = nu;
+      g0[i] = G0;
+      material_name[i] = name;
+      flow[i] = fl;
+      thermal[i] = th;
+      drucker_prager[i] = dp;
+      user_materials->spec(i) = us;
+      nmat++;
+    }
+    for (int j = MAX(jlo, i); j <= jhi; j++) {
+      cut[i][j] = delta;
+      setflag[i][j] = 1;
+      count++;
+    }
+  }
+  if (count == 0) error->all(FLERR, "{}: no type pairs in '{} {}'", cmd, arg[0], arg[1]);
+  if (has_material && nmat == 0)
+    error->all(FLERR, "{}: a material belongs to one type: use 'I I' or '* *'; for the cross "
+               "pair {} {} give only the horizon", cmd, arg[0], arg[1]);
+  ensure_bonds_fix();
+}
+
+/* ----------------------------------------------------------------------
+   an inelastic type needs a law that has an inelastic form
+------------------------------------------------------------------------- */
+
+void PairPeriNospd::check_inelastic(int itype) const
+{
+  const auto &fl = flow[itype];
+  const auto &th = thermal[itype];
+  if (drucker_prager[itype].active && strain_law != Law::SMALL && strain_law != Law::HENCKY)
+    error->all(FLERR, "pair_style {}: type {} has drucker_prager but strain {} has no inelastic "
+               "form: use strain small or strain hencky", force->pair_style, itype,
+               NOSPD::law_keyword(strain_law));
+  if (!fl.active && th.alpha == 0.0) return;
+  if (strain_law != Law::SMALL && strain_law != Law::HENCKY)
+    error->all(FLERR, "pair_style {}: type {} has {} but strain {} has no inelastic form: use "
+               "strain small (additive) or strain hencky (multiplicative, finite)",
+               force->pair_style, itype, fl.active ? "plasticity" : "thermal expansion",
+               NOSPD::law_keyword(strain_law));
+  if (fl.Hkin > 0.0 && strain_law != Law::SMALL)
+    error->all(FLERR, "pair_style {}: type {}: kinematic hardening is implemented for strain "
+               "small only, not strain hencky", force->pair_style, itype);
+}
+
+/* ----------------------------------------------------------------------
+   The correspondence pair style of this run, alone or inside pair hybrid,
+   under its name or its alias without "peri" (which keeps LAMMPS's own
+   PERI_NEIGH fix, matching "peri", unambiguous beside peri/lps).
+------------------------------------------------------------------------- */
+
+PairPeriNospd *PairPeriNospd::find(Force *force)
+{
+  for (const char *name : {"^peri/nospd", "^nospd"})
+    if (auto *p = dynamic_cast<PairPeriNospd *>(force->pair_match(name, 0))) return p;
+  return nullptr;
+}
+
+/* ----------------------------------------------------------------------
+   LAMMPS's PERI_NEIGH fix (made by peri/pmb, peri/lps, peri/ves, peri/eps)
+   finds its pair with force->pair_match("peri", 0), which returns nothing
+   when two sub-styles of pair hybrid contain "peri", and the fix then
+   dereferences it in its setup.  Stop here, before that, and name the alias.
+------------------------------------------------------------------------- */
+
+void PairPeriNospd::check_hybrid_names()
+{
+  if (!utils::strmatch(force->pair_style, "^hybrid")) return;
+  // one bonds fix holds one bond model (horizons, influence, the owned
+  // types): a second correspondence sub-style would silently replace it
+  if (!force->pair_match("nospd", 0))
+    error->all(FLERR, "pair_style {}: more than one PERI-NOSPD sub-style ({}); use one and give "
+               "each atom type its own pair_coeff line", force->pair_style,
+               force->pair_match_ptr(this));
+  const char *mine = force->pair_match_ptr(this);
+  if (!mine || !utils::strmatch(mine, "peri")) return;
+  const std::string rest = std::string(mine).substr(5);    // "nospd" or "nospd/hs"
+  for (const char *theirs : {"peri/pmb", "peri/lps", "peri/ves", "peri/eps"})
+    if (force->pair_match(theirs, 1))
+      error->all(FLERR, "pair_style {}: {} beside {}: LAMMPS's PERI styles find their pair by "
+                 "the name 'peri', which two sub-styles cannot share; use the alias {} "
+                 "(pair_style {} {} ... {} ...)",
+                 force->pair_style, mine, theirs, rest, force->pair_style, rest, theirs);
+}
+
+/* ---------------------------------------------------------------------- */
+
+void PairPeriNospd::check_material(int itype) const
+{
+  if (!(youngs[itype] > 0.0))
+    error->all(FLERR, "pair_coeff ({}): no material for atom type {}: give 'pair_coeff {} {} "
+               "E nu delta' or a material file", force->pair_style, itype, itype, itype);
+}

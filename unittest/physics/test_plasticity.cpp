@@ -633,14 +633,18 @@ INSTANTIATE_TEST_SUITE_P(Styles, InelasticPotential, ::testing::Values(STYLES[0]
    block compressed along x in steps of change_box ... remap, each accepted
    by a run (F = diag(s, 1, 1) at every point, no surface), has at every
    point the first Piola-Kirchhoff stress of the kernel driven along the same
-   F path, under both kinematics; the path yields on the cone. */
+   F path, under both kinematics and in both styles (the bond-associated
+   one runs the law per bond through NOSPD::FamilyMaterial: every bond's F
+   is the block's); the path yields on the cone. */
 TEST(DruckerPragerBody, UniformCompressionFollowsTheKernel)
 {
+  for (const std::string style : {"peri/nospd", "peri/nospd/hs"})
   for (const std::string law : {"small", "hencky"}) {
-    SCOPED_TRACE(law);
+    SCOPED_TRACE(style + " " + law);
     LAMMPS *lmp = open_lammps();
     Block b;
     b.n = 8;
+    b.style = style;
     b.periodic = true;
     b.E = 30e9;
     b.nu = 0.2;
@@ -676,6 +680,102 @@ TEST(DruckerPragerBody, UniformCompressionFollowsTheKernel)
     EXPECT_GT(fb->history[0][NOSPD::Hist::EQPS], 0.0);
     delete lmp;
   }
+}
+
+/* The Berea sandstone entry of potentials/plasticity.nospd, read by
+   pair_coeff from the repository's file, behaves as its published constants
+   say (E = 14.7 GPa, nu = 0.20, Mohr-Coulomb c = 27.2 MPa, phi = 27.8 deg;
+   written here, not read back from the file).  A periodic block in uniaxial
+   strain, F = diag(1 + e, 1, 1) (change_box ... remap, strain small), is on
+   Mohr-Coulomb's compression meridian (the two lateral stresses equal, above
+   the axial one), where the file's cone must coincide with Mohr-Coulomb:
+       f = (s1 - s3)/2 + (s1 + s3)/2 sin(phi) - c cos(phi),
+   elastic s_xx = (lambda + 2 mu) e, s_yy = s_zz = lambda e, so first yield
+   at e_y = -c cos(phi) / (mu - (lambda + mu) sin(phi)) = -1.764 %.  At
+   0.5 e_y the stress is Hooke's of E and nu; at 0.99 e_y no point yields and
+   f = -1 % of c cos(phi); at 1.01 e_y and 1.5 e_y every point yields and sits
+   on f = 0 at two different pressures (the flow moves the stress along the
+   meridian), which pins c and phi both. */
+TEST(DruckerPragerBody, BereaSandstoneEntryYieldsOnMohrCoulomb)
+{
+  const double E = 14.7e9, nu = 0.20, c = 27.2e6, phi = 27.8 * M_PI / 180.0;
+  const double lambda = E * nu / ((1.0 + nu) * (1.0 - 2.0 * nu)), mu = E / (2.0 * (1.0 + nu));
+  const double ccos = c * std::cos(phi);
+  const double ey = -ccos / (mu - (lambda + mu) * std::sin(phi));
+  LAMMPS *lmp = open_lammps();
+  Block b;
+  b.n = 8;
+  b.periodic = true;
+  b.E = E;
+  b.nu = nu;
+  b.settings = "strain small";
+  make_block(lmp, b);
+  ASSERT_EQ(error_of(lmp, "pair_coeff * * plasticity.nospd berea_sandstone_dp " + num(b.delta())), "");
+  cmd(lmp, "run 0");
+  auto *fb = static_cast<LAMMPS_NS::FixNospdBonds *>(lmp->modify->get_fix_by_id("NOSPD_BONDS"));
+  double s = 1.0;    // box stretch along x so far
+  auto strain_to = [&](double e) {
+    cmd(lmp, "change_box all x scale " + num((1.0 + e) / s) + " remap");
+    cmd(lmp, "run 1");
+    s = 1.0 + e;
+  };
+  // principal stresses (sorted) of point i, and its Mohr-Coulomb f / (c cos phi)
+  auto principal = [&](int i) {
+    NOSPD::Mat3 P;
+    for (int k = 0; k < 9; k++) P(k / 3, k % 3) = fb->pk1[i][k];
+    Eigen::SelfAdjointEigenSolver<NOSPD::Mat3> eig(0.5 * (P + P.transpose()));
+    return NOSPD::Vec3(eig.eigenvalues());    // ascending: s3, s2, s1
+  };
+  auto mc = [&](int i) {
+    const NOSPD::Vec3 sp = principal(i);
+    return (0.5 * (sp(2) - sp(0)) + 0.5 * (sp(2) + sp(0)) * std::sin(phi) - ccos) / ccos;
+  };
+  const int n = lmp->atom->nlocal;
+  ASSERT_EQ(n, 512);
+
+  // points with plastic strain, and those whose last increment returned to the cone
+  auto count = [&](int &plastic, int &cone) {
+    plastic = cone = 0;
+    for (int i = 0; i < n; i++) {
+      plastic += fb->history[i][NOSPD::Hist::EQPS] > 0.0;
+      cone += fb->history[i][NOSPD::Hist::YIELDING] == 1.0;
+    }
+  };
+  int plastic, cone;
+
+  strain_to(0.5 * ey);    // elastic: Hooke's law of the entry's E and nu
+  const double want[3] = {(lambda + 2.0 * mu) * 0.5 * ey, lambda * 0.5 * ey, lambda * 0.5 * ey};
+  double worst = 0.0;
+  for (int i = 0; i < n; i++)
+    for (int a = 0; a < 3; a++) worst = std::max(worst, std::abs(fb->pk1[i][4 * a] - want[a]));
+  EXPECT_LT(worst, 1e-6 * std::abs(want[0])) << "s_xx, s_yy, s_zz against (lambda + 2 mu) e, lambda e";
+  count(plastic, cone);
+  EXPECT_EQ(plastic, 0);
+
+  strain_to(0.99 * ey);    // just below the predicted onset
+  count(plastic, cone);
+  EXPECT_EQ(plastic, 0) << "points yield before e_y";
+  worst = 0.0;
+  for (int i = 0; i < n; i++) worst = std::max(worst, std::abs(mc(i) - (-0.01)));
+  EXPECT_LT(worst, 1e-6) << "f/(c cos phi) at 0.99 e_y, expected -0.01; point 0: " << mc(0);
+
+  std::vector<double> pressure;
+  for (double r : {1.01, 1.5}) {    // just past the onset, and well into flow
+    SCOPED_TRACE("e = " + std::to_string(r) + " e_y");
+    strain_to(r * ey);
+    count(plastic, cone);
+    EXPECT_EQ(plastic, n) << "every point must yield";
+    EXPECT_EQ(cone, n) << "every point's return must be onto the cone";
+    worst = 0.0;
+    for (int i = 0; i < n; i++) worst = std::max(worst, std::abs(mc(i)));
+    EXPECT_LT(worst, 1e-6) << "f/(c cos phi): the stress must lie on Mohr-Coulomb; point 0: "
+                           << mc(0);
+    const NOSPD::Vec3 sp = principal(0);
+    EXPECT_NEAR(sp(1), sp(2), 1e-9 * std::abs(sp(0))) << "compression meridian: lateral equal";
+    pressure.push_back(sp.sum() / 3.0);
+  }
+  EXPECT_LT(pressure[1], 1.2 * pressure[0]) << "two distinct pressures on the meridian";
+  delete lmp;
 }
 
 // ---------------------------------------------------------------------------
@@ -940,7 +1040,7 @@ TEST_F(InelasticBadInput, DruckerPragerInput)
     lmp = open_lammps();
     EXPECT_THAT(coeff_error("", c.first), HasSubstr(c.second)) << c.first;
   }
-  // the law needs an inelastic form; the bond-associated style has none yet
+  // the law needs an inelastic form (small or hencky)
   delete lmp;
   lmp = open_lammps();
   EXPECT_EQ(coeff_error("strain svk", "drucker_prager 30 10 5e6 0"), "");

@@ -1,0 +1,319 @@
+/* ----------------------------------------------------------------------
+   PERI-NOSPD: the classical style's constitutive pass: P and the energy density at
+   every point through the material table (build_materials), the
+   temperature a law sees, and the failure messages of a point's law.
+------------------------------------------------------------------------- */
+
+#include "pair_peri_nospd.h"
+
+#include "atom.h"
+#include "domain.h"
+#include "error.h"
+#include "fix_nospd_bonds.h"
+#include "force.h"
+#include "input.h"
+#include "update.h"
+#include "variable.h"
+
+#include "nospd_bond_sums.h"
+
+#include <cmath>
+
+using namespace LAMMPS_NS;
+using NOSPD::Law;
+using NOSPD::Mat3;
+using NOSPD::Plane;
+using NOSPD::Stab;
+
+
+/* ----------------------------------------------------------------------
+   per owned atom: P(F), W(F), and what pass 2 needs of it and its partners:
+   B = P K^-1 - S H, plus S (Wan) or H (hourglass)
+------------------------------------------------------------------------- */
+
+void PairPeriNospd::constitutive_pass(int eflag)
+{
+  if (fix_bonds->nhistory) fill_base_temperature();
+  // user laws keep scratch space (formulas) or may not be reentrant (UMATs)
+  for_ranges(atom->nlocal, !user_law(),
+             [&](int from, int to, int, Tally &t) { constitutive_range(from, to, eflag, t); });
+  if (fix_bonds->nhistory) fix_bonds->trial_history_ready();
+}
+
+void PairPeriNospd::constitutive_range(int from, int to, int eflag, Tally &t)
+{
+  const int *type = atom->type;
+  const int *singular = fix_bonds->singular;
+  double **defgrad = fix_bonds->defgrad;
+  double **kinv = fix_bonds->kinv;
+  double **pk1 = fix_bonds->pk1;
+  double *wdens = fix_bonds->energy_density;
+  const int nhist = fix_bonds->nhistory;
+  double **hist = fix_bonds->history;
+  double **hist_trial = fix_bonds->history_trial;
+  const bool minimizing = (update->whichflag == 2);
+  NOSPD::PointEnv env;
+  env.dt = minimizing ? 0.0 : update->dt;    // a minimize step is quasi-static: no rate
+
+  for (int i = from; i < to; i++) {
+    const int itype = type[i];
+    const bool history_point = nhist && inelastic[itype];
+    if (nhist && (!history_point || singular[i]))
+      for (int k = 0; k < nhist; k++) hist_trial[i][k] = hist[i][k];
+    if (singular[i]) {
+      // no force state of its own: no stress, no stabilization
+      for (int k = 0; k < 9; k++) tmat[i][k] = pk1[i][k] = 0.0;
+      for (int k = 0; k < NOSPD::BREC; k++) bmat[i][k] = 0.0;
+      if (qmat)
+        for (int k = 0; k < NOSPD::QREC; k++) qmat[i][k] = 0.0;
+      wdens[i] = 0.0;
+      continue;
+    }
+    Mat3 F = NOSPD::load(defgrad[i]);
+    const Mat3 H = F - Mat3::Identity();
+    const Mat3 Ki = NOSPD::load(kinv[i]);
+    Mat3 P;
+    double W = 0.0;
+    point_stress(i, F, P, W, env);
+    NOSPD::store(F, defgrad[i]);
+    NOSPD::store(P, pk1[i]);
+    const Mat3 A = P * Ki;
+
+    Mat3 B = A;
+    double e2 = 0.0;    // with the quadratic fit: sum_j w |z2|^2
+    if (stab == Stab::SILLING && qmat) {
+      Mat3 H2;
+      quadratic_spring(i, H, H2, e2, eflag);
+      B -= stab_scalar[itype] * H2;
+    } else if (stab == Stab::SILLING) {
+      B -= stab_scalar[itype] * H;
+    } else if (stab == Stab::WAN) {
+      const Mat3 S = NOSPD::wan_tensor(lame[itype], domain->dimension, plane_mode, Ki);
+      B -= S * H;
+      store_transposed(S, tmat[i]);
+    } else if (stab == Stab::HOURGLASS) {
+      // c H: pass 2 needs the two ends' H xi only scaled by their c
+      store_transposed(Mat3(stab_scalar[itype] * H), tmat[i]);
+    }
+    store_transposed(B, bmat[i]);
+    bmat[i][STAB_SCALAR] = stab_scalar[itype];
+
+    if (eflag) {
+      double e = W;
+      if (stab == Stab::SILLING || stab == Stab::WAN) {
+        // 1/2 sum_j w z.S z = 1/2 S : Z
+        const Mat3 Z = nonaffine_moment(i, H, Ki);
+        if (stab == Stab::SILLING && qmat) e += 0.5 * stab_scalar[itype] * e2;
+        else if (stab == Stab::SILLING) e += 0.5 * stab_scalar[itype] * Z.trace();
+        else e += 0.5 * NOSPD::load(tmat[i]).cwiseProduct(Z).sum();    // S^T : Z = S : Z, Z symmetric
+      }
+      wdens[i] = e;
+      // minimize solves one load step of the plasticity: its energy is the
+      // step's incremental potential, W_e plus the dissipation of the step,
+      // whose gradient the returned stress is (nospd_plasticity.h)
+      if (minimizing && inelastic[itype] == POINT_PLASTIC)
+        e += hist_trial[i][NOSPD::Hist::WORK] - hist[i][NOSPD::Hist::WORK];
+      tally_energy(i, e, t);
+    }
+  }
+}
+
+/* ----------------------------------------------------------------------
+   P and W of owned atom i at F (F33 written back in plane stress): by the
+   type's law alone, the built-in inelastic point or its UMAT
+------------------------------------------------------------------------- */
+
+void PairPeriNospd::point_stress(int i, Mat3 &F, Mat3 &P, double &W, const NOSPD::PointEnv &env0)
+{
+  const NOSPD::Material &law = *materials[atom->type[i]];
+  NOSPD::MaterialEnv env;
+  env.dt = env0.dt;
+  const bool history = fix_bonds->nhistory > 0;
+  if (history) {
+    env.T = temperature_base[i];
+    env.rho = atom->rmass[i];
+  }
+  NOSPD::UmatPoint pt;
+  if (law.wants_point_data()) {
+    pt = umat_env(i);
+    env.umat = &pt;
+  }
+  const NOSPD::PointStatus st =
+      law.stress(F, history ? fix_bonds->history[i] : nullptr,
+                 history ? fix_bonds->history_trial[i] : nullptr, env, P, W);
+  if (!st.ok()) material_failure(i, st, F);
+}
+
+/* ----------------------------------------------------------------------
+   each active type's law behind the material-point interface
+   (nospd_material.h): the one place a law is chosen
+------------------------------------------------------------------------- */
+
+void PairPeriNospd::build_materials()
+{
+  materials.clear();
+  materials.resize(atom->ntypes + 1);
+  for (int i = 1; i <= atom->ntypes; i++) {
+    if (!active[i]) continue;
+    if (inelastic[i] == POINT_UMAT)
+      materials[i] = std::make_unique<NOSPD::UmatPointMaterial>(user_materials->umat(i));
+    else if (drucker_prager[i].active)
+      materials[i] = std::make_unique<NOSPD::DruckerPragerMaterial>(strain_law, plane_mode,
+                                                                    lame[i], drucker_prager[i]);
+    else if (inelastic[i] == POINT_PLASTIC)
+      materials[i] = std::make_unique<NOSPD::J2Material>(strain_law, plane_mode, lame[i],
+                                                         flow[i], thermal[i]);
+    else
+      materials[i] = std::make_unique<NOSPD::ElasticMaterial>(strain_law, plane_mode, lame[i]);
+  }
+}
+
+// the message of a law that failed at owned atom i
+void PairPeriNospd::material_failure(int i, NOSPD::PointStatus st, const Mat3 &F) const
+{
+  if (st.family == NOSPD::PointStatus::UMAT) umat_failure(i, static_cast<NOSPD::UmatStatus>(st.code), F);
+  if (st.family == NOSPD::PointStatus::RETURN)
+    inelastic_failure(i, static_cast<NOSPD::ReturnStatus>(st.code), F);
+  law_failure(i, F);
+}
+
+/* ---------------------------------------------------------------------- */
+
+void PairPeriNospd::law_failure(int i, const Mat3 &F) const
+{
+  const double J = F.determinant();
+  if (strain_law == Law::USER && J > 0.0)
+    error->one(FLERR, "pair_style {}: the energy formula of type {} (W = '{}') gives a "
+               "non-finite stress at atom {} on step {} (det F = {:.6g}){}", force->pair_style,
+               atom->type[i], user_materials->spec(atom->type[i]).energy, atom->tag[i],
+               update->ntimestep, J, fix_bonds->user_law_cause("formula"));
+  error->one(FLERR, "pair_style {}: atom {} on step {} has det F = {:.6g}: the "
+             "finite-strain law is undefined for an inverted or collapsed family{}",
+             force->pair_style, atom->tag[i], update->ntimestep, J, fix_bonds->unstable_cause());
+}
+
+/* ----------------------------------------------------------------------
+   one UMAT increment of owned atom i from its accepted history
+------------------------------------------------------------------------- */
+
+
+/* ----------------------------------------------------------------------
+   what a UMAT's material point at owned atom i needs besides F
+------------------------------------------------------------------------- */
+
+NOSPD::UmatPoint PairPeriNospd::umat_env(int i) const
+{
+  NOSPD::UmatPoint pt;
+  pt.dt = update->dt;
+  // TIME at the start of the increment, as Abaqus passes it (the setup's
+  // evaluation of the accepted state takes no increment: its own time)
+  const double t_now = update->atime + (update->ntimestep - update->atimestep) * update->dt;
+  pt.time = update->setupflag ? t_now : t_now - update->dt;
+  pt.temperature = temperature_base[i];
+  for (int d = 0; d < 3; d++) pt.coords[d] = atom->x[i][d];
+  pt.celent = (domain->dimension == 3) ? cbrt(atom->vfrac[i]) : sqrt(atom->vfrac[i] / thickness);
+  pt.noel = static_cast<int>(atom->tag[i]);
+  pt.kinc = static_cast<int>(update->ntimestep);
+  return pt;
+}
+
+/* ---------------------------------------------------------------------- */
+
+void PairPeriNospd::umat_failure(int i, NOSPD::UmatStatus st, const Mat3 &F) const
+{
+  const int itype = atom->type[i];
+  const std::string lib = user_materials->library(itype);
+  if (st == NOSPD::UmatStatus::ABORT)
+    error->one(FLERR, "pair_style {}: the UMAT of type {} ({}) stopped at atom {} on step {}: {}",
+               force->pair_style, itype, lib, atom->tag[i], update->ntimestep,
+               NOSPD::umat_report().message);
+  if (st == NOSPD::UmatStatus::STATEV_OVERFLOW)
+    error->one(FLERR, "pair_style {}: the UMAT of type {} ({}, symbol {}) wrote past its NSTATV "
+               "= {} state variables (statev {}) at atom {} on step {}: declare as many as it "
+               "writes with 'statev N'", force->pair_style, itype, lib,
+               user_materials->symbol(itype), user_materials->umat(itype).nstatev,
+               user_materials->umat(itype).nstatev, atom->tag[i], update->ntimestep);
+  if (st == NOSPD::UmatStatus::NONFINITE)
+    error->one(FLERR, "pair_style {}: the UMAT of type {} ({}) returned a non-finite stress, "
+               "energy or state variable at atom {} on step {}{}", force->pair_style, itype, lib,
+               atom->tag[i], update->ntimestep, fix_bonds->user_law_cause("UMAT"));
+  law_failure(i, F);
+}
+
+/* ----------------------------------------------------------------------
+   the user's temperature of each owned atom (before adiabatic heating)
+------------------------------------------------------------------------- */
+
+void PairPeriNospd::fill_base_temperature()
+{
+  const int nlocal = atom->nlocal;
+  const int *type = atom->type;
+  if (temperature_kind == TEMP_VARIABLE) {
+    // LAMMPS's evaluation lets std::stod's out_of_range out (a constant 1e999)
+    try {
+      input->variable->compute_atom(temperature_index, 0, temperature_base, 1, 0);
+    } catch (std::out_of_range &e) {
+      error->one(FLERR, "pair_style {}: temperature v_{}: a number out of a double's range "
+                 "({})", force->pair_style, temperature_name, e.what());
+    }
+  } else if (temperature_kind == TEMP_PROPERTY) {
+    const double *t = atom->dvector[temperature_index];
+    for (int i = 0; i < nlocal; i++) temperature_base[i] = t[i];
+  } else {
+    for (int i = 0; i < nlocal; i++) temperature_base[i] = thermal[type[i]].T_ref;
+  }
+  // the plastic and thermal laws read an absolute temperature (T_ref > 0 is
+  // already required); a UMAT may take any scale, but not a non-finite one
+  for (int i = 0; i < nlocal; i++) {
+    const double T = temperature_base[i];
+    const bool absolute = inelastic[type[i]] == POINT_PLASTIC;
+    if (inelastic[type[i]] && !(std::isfinite(T) && (T > 0.0 || !absolute)))
+      error->one(FLERR, "pair_style {}: step {}: atom {} has temperature {} from {}{}{}",
+                 force->pair_style, update->ntimestep, atom->tag[i], T,
+                 temperature_kind == TEMP_VARIABLE ? "v_" : "d_", temperature_name,
+                 std::isfinite(T) ? " (the temperature of a plastic or thermal law is absolute: "
+                                    "it must be > 0)" : "");
+  }
+}
+
+/* ---------------------------------------------------------------------- */
+
+double PairPeriNospd::temperature(int i) const
+{
+  const int nhist = fix_bonds ? fix_bonds->nhistory : 0;
+  if (!nhist || !temperature_base || i >= nmax_work) return thermal[atom->type[i]].T_ref;
+  return temperature_base[i] + (nhist ? fix_bonds->history[i][NOSPD::Hist::HEAT] : 0.0);
+}
+
+/* ---------------------------------------------------------------------- */
+
+void PairPeriNospd::inelastic_failure(int i, NOSPD::ReturnStatus st, const Mat3 &F) const
+{
+  if (st == NOSPD::ReturnStatus::BAD_TEMPERATURE) {
+    const NOSPD::ThermalLaw &th = thermal[atom->type[i]];
+    const double T = temperature(i), eth = th.alpha * (T - th.T_ref);
+    error->one(FLERR, "pair_style {}: atom {} on step {} has temperature {:.6g}, where the "
+               "thermal {} of type {} (thermal {:.6g} {:.6g}) is {:.6g}: the law is undefined "
+               "there; check the temperature (its variable or property) and the thermal law",
+               force->pair_style, atom->tag[i], update->ntimestep, T,
+               strain_law == NOSPD::Law::SMALL ? "strain alpha (T - T_ref)"
+                                               : "stretch 1 + alpha (T - T_ref)",
+               atom->type[i], th.alpha, th.T_ref,
+               strain_law == NOSPD::Law::SMALL ? eth : 1.0 + eth);
+  }
+  if (st == NOSPD::ReturnStatus::BAD_DEFORMATION)
+    error->one(FLERR, "pair_style {}: atom {} on step {} has det F = {:.6g}: the finite-strain "
+               "law is undefined for an inverted or collapsed family{}",
+               force->pair_style, atom->tag[i], update->ntimestep, F.determinant(),
+               fix_bonds->unstable_cause());
+  if (drucker_prager[atom->type[i]].active)
+    error->one(FLERR, "pair_style {}: atom {} on step {}: a Drucker-Prager state beyond the "
+               "cone's apex (hydrostatic tension above its strength) cannot return without "
+               "dilatancy: give the type a dilatancy angle psi > 0", force->pair_style,
+               atom->tag[i], update->ntimestep);
+  error->one(FLERR, "pair_style {}: the plastic return mapping did not converge at atom {} on "
+             "step {} (equivalent plastic strain {:.6g}, temperature {:.6g}); the strain "
+             "increment may be too large (time step) or the flow law ill-posed",
+             force->pair_style, atom->tag[i], update->ntimestep,
+             fix_bonds->history[i][NOSPD::Hist::EQPS], temperature_base[i]);
+}
