@@ -11,7 +11,7 @@
 #include "force.h"
 #include "memory.h"
 #include "pair.h"
-#include "pair_peri_nospd.h"
+#include "pair_peri_nospd_base.h"
 #include "update.h"
 
 #include "nospd_constitutive.h"
@@ -93,7 +93,7 @@ void ComputeNospdAtom::init()
 
 void ComputeNospdAtom::find_pair()
 {
-  pair = PairPeriNospd::find(force);
+  pair = PairPeriNospdBase::find(force);
   if (!pair) error->all(FLERR, "compute {} requires a peri/nospd pair style", style);
 }
 

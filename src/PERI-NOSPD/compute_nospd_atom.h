@@ -41,7 +41,7 @@ class ComputeNospdAtom : public Compute {
   std::vector<int> quantities;
   int nmax;
   double **out;
-  class PairPeriNospd *pair;
+  class PairPeriNospdBase *pair;
 
   void find_pair();
   double zem_indicator(int i) const;

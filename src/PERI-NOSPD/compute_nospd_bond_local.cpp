@@ -9,7 +9,7 @@
 #include "fix_nospd_bonds.h"
 #include "force.h"
 #include "memory.h"
-#include "pair_peri_nospd.h"
+#include "pair_peri_nospd_base.h"
 #include "pair_peri_nospd_hs.h"
 #include "update.h"
 
@@ -76,7 +76,7 @@ void ComputeNospdBondLocal::init()
 
 void ComputeNospdBondLocal::find_pair()
 {
-  pair = PairPeriNospd::find(force);
+  pair = PairPeriNospdBase::find(force);
   if (!pair) error->all(FLERR, "compute {} requires a peri/nospd or peri/nospd/hs pair style", style);
   pair_hs = dynamic_cast<PairPeriNospdHS *>(pair);
 }

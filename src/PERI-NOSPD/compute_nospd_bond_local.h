@@ -41,7 +41,7 @@ class ComputeNospdBondLocal : public Compute {
   std::vector<int> quantities;
   int nmax;
   double **out;
-  class PairPeriNospd *pair;
+  class PairPeriNospdBase *pair;
   class PairPeriNospdHS *pair_hs;
 
   void find_pair();

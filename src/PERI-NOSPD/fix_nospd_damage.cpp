@@ -45,7 +45,7 @@
 #include "neigh_list.h"
 #include "neigh_request.h"
 #include "neighbor.h"
-#include "pair_peri_nospd.h"
+#include "pair_peri_nospd_base.h"
 #include "region.h"
 #include "update.h"
 
@@ -215,7 +215,7 @@ void FixNospdDamage::init()
 {
   const std::string cmd = std::string("fix ") + style;
   econtact = 0.0;    // minimize adds no contact force: no stale energy either
-  pair = PairPeriNospd::find(force);
+  pair = PairPeriNospdBase::find(force);
   if (!pair)
     error->all(FLERR, "{} requires a peri/nospd pair style (it acts on that style's bond "
                "families)", cmd);

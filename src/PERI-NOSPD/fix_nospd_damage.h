@@ -22,7 +22,7 @@ FixStyle(nospd/damage,FixNospdDamage);
 namespace LAMMPS_NS {
 
 class FixNospdBonds;
-class PairPeriNospd;
+class PairPeriNospdBase;
 
 /* Bond breaking for the correspondence styles.  After each force
    computation (post_force) the fix stores the atoms' state the criteria
@@ -84,7 +84,7 @@ class FixNospdDamage : public Fix {
   double contact_rc;        // radius in use
   class NeighList *list;
 
-  PairPeriNospd *pair;
+  PairPeriNospdBase *pair;
   FixNospdBonds *bonds;
   double **crit;            // [ntypes+1][ntypes+1] critical value per type pair
   double **kcontact;        // contact stiffness per type pair

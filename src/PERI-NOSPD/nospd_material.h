@@ -8,7 +8,7 @@
    has one.  F may come back changed: plane stress solves its F33.  The
    classical style calls every type's law through this interface; a new
    law is a class here (or in its own header) and one line in
-   PairPeriNospd::build_materials.
+   PairPeriNospdBase::build_materials.
 ------------------------------------------------------------------------- */
 
 #ifndef NOSPD_MATERIAL_H

@@ -1,10 +1,9 @@
 /* ----------------------------------------------------------------------
-   PERI-NOSPD: the classical style's constitutive pass: P and the energy density at
-   every point through the material table (build_materials), the
+   PERI-NOSPD: the material table of both styles (build_materials), the
    temperature a law sees, and the failure messages of a point's law.
 ------------------------------------------------------------------------- */
 
-#include "pair_peri_nospd.h"
+#include "pair_peri_nospd_base.h"
 
 #include "atom.h"
 #include "domain.h"
@@ -15,7 +14,6 @@
 #include "update.h"
 #include "variable.h"
 
-#include "nospd_bond_sums.h"
 
 #include <cmath>
 
@@ -25,131 +23,12 @@ using NOSPD::Mat3;
 using NOSPD::Plane;
 using NOSPD::Stab;
 
-
-/* ----------------------------------------------------------------------
-   per owned atom: P(F), W(F), and what pass 2 needs of it and its partners:
-   B = P K^-1 - S H, plus S (Wan) or H (hourglass)
-------------------------------------------------------------------------- */
-
-void PairPeriNospd::constitutive_pass(int eflag)
-{
-  if (fix_bonds->nhistory) fill_base_temperature();
-  // user laws keep scratch space (formulas) or may not be reentrant (UMATs)
-  for_ranges(atom->nlocal, !user_law(),
-             [&](int from, int to, int, Tally &t) { constitutive_range(from, to, eflag, t); });
-  if (fix_bonds->nhistory) fix_bonds->trial_history_ready();
-}
-
-void PairPeriNospd::constitutive_range(int from, int to, int eflag, Tally &t)
-{
-  const int *type = atom->type;
-  const int *singular = fix_bonds->singular;
-  double **defgrad = fix_bonds->defgrad;
-  double **kinv = fix_bonds->kinv;
-  double **pk1 = fix_bonds->pk1;
-  double *wdens = fix_bonds->energy_density;
-  const int nhist = fix_bonds->nhistory;
-  double **hist = fix_bonds->history;
-  double **hist_trial = fix_bonds->history_trial;
-  const bool minimizing = (update->whichflag == 2);
-  NOSPD::PointEnv env;
-  env.dt = minimizing ? 0.0 : update->dt;    // a minimize step is quasi-static: no rate
-
-  for (int i = from; i < to; i++) {
-    const int itype = type[i];
-    const bool history_point = nhist && inelastic[itype];
-    if (nhist && (!history_point || singular[i]))
-      for (int k = 0; k < nhist; k++) hist_trial[i][k] = hist[i][k];
-    if (singular[i]) {
-      // no force state of its own: no stress, no stabilization
-      for (int k = 0; k < 9; k++) tmat[i][k] = pk1[i][k] = 0.0;
-      for (int k = 0; k < NOSPD::BREC; k++) bmat[i][k] = 0.0;
-      if (qmat)
-        for (int k = 0; k < NOSPD::QREC; k++) qmat[i][k] = 0.0;
-      wdens[i] = 0.0;
-      continue;
-    }
-    Mat3 F = NOSPD::load(defgrad[i]);
-    const Mat3 H = F - Mat3::Identity();
-    const Mat3 Ki = NOSPD::load(kinv[i]);
-    Mat3 P;
-    double W = 0.0;
-    point_stress(i, F, P, W, env);
-    NOSPD::store(F, defgrad[i]);
-    NOSPD::store(P, pk1[i]);
-    const Mat3 A = P * Ki;
-
-    Mat3 B = A;
-    double e2 = 0.0;    // with the quadratic fit: sum_j w |z2|^2
-    if (stab == Stab::SILLING && qmat) {
-      Mat3 H2;
-      quadratic_spring(i, H, H2, e2, eflag);
-      B -= stab_scalar[itype] * H2;
-    } else if (stab == Stab::SILLING) {
-      B -= stab_scalar[itype] * H;
-    } else if (stab == Stab::WAN) {
-      const Mat3 S = NOSPD::wan_tensor(lame[itype], domain->dimension, plane_mode, Ki);
-      B -= S * H;
-      store_transposed(S, tmat[i]);
-    } else if (stab == Stab::HOURGLASS) {
-      // c H: pass 2 needs the two ends' H xi only scaled by their c
-      store_transposed(Mat3(stab_scalar[itype] * H), tmat[i]);
-    }
-    store_transposed(B, bmat[i]);
-    bmat[i][STAB_SCALAR] = stab_scalar[itype];
-
-    if (eflag) {
-      double e = W;
-      if (stab == Stab::SILLING || stab == Stab::WAN) {
-        // 1/2 sum_j w z.S z = 1/2 S : Z
-        const Mat3 Z = nonaffine_moment(i, H, Ki);
-        if (stab == Stab::SILLING && qmat) e += 0.5 * stab_scalar[itype] * e2;
-        else if (stab == Stab::SILLING) e += 0.5 * stab_scalar[itype] * Z.trace();
-        else e += 0.5 * NOSPD::load(tmat[i]).cwiseProduct(Z).sum();    // S^T : Z = S : Z, Z symmetric
-      }
-      wdens[i] = e;
-      // minimize solves one load step of the plasticity: its energy is the
-      // step's incremental potential, W_e plus the dissipation of the step,
-      // whose gradient the returned stress is (nospd_plasticity.h)
-      if (minimizing && inelastic[itype] == POINT_PLASTIC)
-        e += hist_trial[i][NOSPD::Hist::WORK] - hist[i][NOSPD::Hist::WORK];
-      tally_energy(i, e, t);
-    }
-  }
-}
-
-/* ----------------------------------------------------------------------
-   P and W of owned atom i at F (F33 written back in plane stress): by the
-   type's law alone, the built-in inelastic point or its UMAT
-------------------------------------------------------------------------- */
-
-void PairPeriNospd::point_stress(int i, Mat3 &F, Mat3 &P, double &W, const NOSPD::PointEnv &env0)
-{
-  const NOSPD::Material &law = *materials[atom->type[i]];
-  NOSPD::MaterialEnv env;
-  env.dt = env0.dt;
-  const bool history = fix_bonds->nhistory > 0;
-  if (history) {
-    env.T = temperature_base[i];
-    env.rho = atom->rmass[i];
-  }
-  NOSPD::UmatPoint pt;
-  if (law.wants_point_data()) {
-    pt = umat_env(i);
-    env.umat = &pt;
-  }
-  const NOSPD::PointStatus st =
-      law.stress(F, history ? fix_bonds->history[i] : nullptr,
-                 history ? fix_bonds->history_trial[i] : nullptr, env, P, W);
-  if (!st.ok()) material_failure(i, st, F);
-}
-
 /* ----------------------------------------------------------------------
    each active type's law behind the material-point interface
    (nospd_material.h): the one place a law is chosen
 ------------------------------------------------------------------------- */
 
-void PairPeriNospd::build_materials()
+void PairPeriNospdBase::build_materials()
 {
   materials.clear();
   materials.resize(atom->ntypes + 1);
@@ -169,7 +48,7 @@ void PairPeriNospd::build_materials()
 }
 
 // the message of a law that failed at owned atom i
-void PairPeriNospd::material_failure(int i, NOSPD::PointStatus st, const Mat3 &F) const
+void PairPeriNospdBase::material_failure(int i, NOSPD::PointStatus st, const Mat3 &F) const
 {
   if (st.family == NOSPD::PointStatus::UMAT) umat_failure(i, static_cast<NOSPD::UmatStatus>(st.code), F);
   if (st.family == NOSPD::PointStatus::RETURN)
@@ -179,7 +58,7 @@ void PairPeriNospd::material_failure(int i, NOSPD::PointStatus st, const Mat3 &F
 
 /* ---------------------------------------------------------------------- */
 
-void PairPeriNospd::law_failure(int i, const Mat3 &F) const
+void PairPeriNospdBase::law_failure(int i, const Mat3 &F) const
 {
   const double J = F.determinant();
   if (strain_law == Law::USER && J > 0.0)
@@ -201,7 +80,7 @@ void PairPeriNospd::law_failure(int i, const Mat3 &F) const
    what a UMAT's material point at owned atom i needs besides F
 ------------------------------------------------------------------------- */
 
-NOSPD::UmatPoint PairPeriNospd::umat_env(int i) const
+NOSPD::UmatPoint PairPeriNospdBase::umat_env(int i) const
 {
   NOSPD::UmatPoint pt;
   pt.dt = update->dt;
@@ -219,7 +98,7 @@ NOSPD::UmatPoint PairPeriNospd::umat_env(int i) const
 
 /* ---------------------------------------------------------------------- */
 
-void PairPeriNospd::umat_failure(int i, NOSPD::UmatStatus st, const Mat3 &F) const
+void PairPeriNospdBase::umat_failure(int i, NOSPD::UmatStatus st, const Mat3 &F) const
 {
   const int itype = atom->type[i];
   const std::string lib = user_materials->library(itype);
@@ -244,7 +123,7 @@ void PairPeriNospd::umat_failure(int i, NOSPD::UmatStatus st, const Mat3 &F) con
    the user's temperature of each owned atom (before adiabatic heating)
 ------------------------------------------------------------------------- */
 
-void PairPeriNospd::fill_base_temperature()
+void PairPeriNospdBase::fill_base_temperature()
 {
   const int nlocal = atom->nlocal;
   const int *type = atom->type;
@@ -278,7 +157,7 @@ void PairPeriNospd::fill_base_temperature()
 
 /* ---------------------------------------------------------------------- */
 
-double PairPeriNospd::temperature(int i) const
+double PairPeriNospdBase::temperature(int i) const
 {
   const int nhist = fix_bonds ? fix_bonds->nhistory : 0;
   if (!nhist || !temperature_base || i >= nmax_work) return thermal[atom->type[i]].T_ref;
@@ -287,7 +166,7 @@ double PairPeriNospd::temperature(int i) const
 
 /* ---------------------------------------------------------------------- */
 
-void PairPeriNospd::inelastic_failure(int i, NOSPD::ReturnStatus st, const Mat3 &F) const
+void PairPeriNospdBase::inelastic_failure(int i, NOSPD::ReturnStatus st, const Mat3 &F) const
 {
   if (st == NOSPD::ReturnStatus::BAD_TEMPERATURE) {
     const NOSPD::ThermalLaw &th = thermal[atom->type[i]];

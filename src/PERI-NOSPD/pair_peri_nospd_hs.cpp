@@ -73,7 +73,7 @@ NOSPD_KERNEL_CLONES NOSPD::ReturnStatus bond_return_kernel(
 /* ---------------------------------------------------------------------- */
 
 PairPeriNospdHS::PairPeriNospdHS(LAMMPS *lmp) :
-    PairPeriNospd(lmp), hs_form(HSForm::II), hs_ratio(1.0), mapped_version(-1),
+    PairPeriNospdBase(lmp), hs_form(HSForm::II), hs_ratio(1.0), mapped_version(-1),
     nsingular_bonds(0), nfallback_states(0), reported(false), nmax_ghost(0), fghost(nullptr),
     vghost(nullptr), reverse_virial(0), nbig(0), stencil_on(true), nstencil_all(0),
     comm_mode(0), stencils_stale(false), first_point_mapping(true), stab_on(false)
@@ -163,7 +163,7 @@ void PairPeriNospdHS::settings(int narg, char **arg)
     }
     iarg += 2;
   }
-  PairPeriNospd::settings((int) rest.size(), rest.data());
+  PairPeriNospdBase::settings((int) rest.size(), rest.data());
   stab_on = stabilized;
   if (!stab_on) stab = NOSPD::Stab::NONE;
   // new settings may change every pattern (and with them the stencils)
@@ -178,14 +178,14 @@ void PairPeriNospdHS::settings(int narg, char **arg)
 std::string PairPeriNospdHS::not_a_potential() const
 {
   if (hs_form == NOSPD::HSForm::I) return "form I is not a potential";
-  return PairPeriNospd::not_a_potential();
+  return PairPeriNospdBase::not_a_potential();
 }
 
 /* ---------------------------------------------------------------------- */
 
 void PairPeriNospdHS::init_style()
 {
-  PairPeriNospd::init_style();
+  PairPeriNospdBase::init_style();
   // inelastic materials: a point history per family and a state per bond
   // (nospd_bond_history.h): J2/Johnson-Cook's compact per-bond state, a
   // UMAT's family row a UmatHist entry of sums and means then that of the
@@ -638,10 +638,10 @@ void PairPeriNospdHS::stabilization_pass(int eflag)
     }
   }
   comm->forward_comm(this);
-  if (silling) vflag_either ? PairPeriNospd::force_pass<NOSPD::StabPass::SILLING, 1>(eflag)
-                            : PairPeriNospd::force_pass<NOSPD::StabPass::SILLING, 0>(eflag);
-  else vflag_either ? PairPeriNospd::force_pass<NOSPD::StabPass::HOURGLASS, 1>(eflag)
-                    : PairPeriNospd::force_pass<NOSPD::StabPass::HOURGLASS, 0>(eflag);
+  if (silling) vflag_either ? PairPeriNospdBase::force_pass<NOSPD::StabPass::SILLING, 1>(eflag)
+                            : PairPeriNospdBase::force_pass<NOSPD::StabPass::SILLING, 0>(eflag);
+  else vflag_either ? PairPeriNospdBase::force_pass<NOSPD::StabPass::HOURGLASS, 1>(eflag)
+                    : PairPeriNospdBase::force_pass<NOSPD::StabPass::HOURGLASS, 0>(eflag);
 }
 
 /* ----------------------------------------------------------------------
@@ -739,7 +739,7 @@ int PairPeriNospdHS::bond_defgrad(int i, int b, double *F)
 
 int PairPeriNospdHS::pack_forward_comm(int n, int *list, double *buf, int pbc_flag, int *pbc)
 {
-  if (comm_mode == 0) return PairPeriNospd::pack_forward_comm(n, list, buf, pbc_flag, pbc);
+  if (comm_mode == 0) return PairPeriNospdBase::pack_forward_comm(n, list, buf, pbc_flag, pbc);
   for (int ii = 0; ii < n; ii++)
     buf[ii] = comm_mode == 1 ? stencil_key[list[ii]] : (double) on_stencil[list[ii]];
   return n;
@@ -749,7 +749,7 @@ int PairPeriNospdHS::pack_forward_comm(int n, int *list, double *buf, int pbc_fl
 
 void PairPeriNospdHS::unpack_forward_comm(int n, int first, double *buf)
 {
-  if (comm_mode == 0) return PairPeriNospd::unpack_forward_comm(n, first, buf);
+  if (comm_mode == 0) return PairPeriNospdBase::unpack_forward_comm(n, first, buf);
   for (int ii = 0; ii < n; ii++) {
     if (comm_mode == 1) stencil_key[first + ii] = buf[ii];
     else on_stencil[first + ii] = buf[ii] != 0.0 ? 1 : 0;
@@ -787,7 +787,7 @@ void PairPeriNospdHS::unpack_reverse_comm(int n, int *list, double *buf)
 
 void PairPeriNospdHS::write_restart_settings(FILE *fp)
 {
-  PairPeriNospd::write_restart_settings(fp);
+  PairPeriNospdBase::write_restart_settings(fp);
   const int iv = static_cast<int>(hs_form);
   fwrite(&iv, sizeof(int), 1, fp);
   fwrite(&hs_ratio, sizeof(double), 1, fp);
@@ -799,7 +799,7 @@ void PairPeriNospdHS::write_restart_settings(FILE *fp)
 
 void PairPeriNospdHS::read_restart_settings(FILE *fp)
 {
-  PairPeriNospd::read_restart_settings(fp);
+  PairPeriNospdBase::read_restart_settings(fp);
   int iv = 2, st = 1;
   if (comm->me == 0) {
     utils::sfread(FLERR, &iv, sizeof(int), 1, fp, nullptr, error);

@@ -11,7 +11,7 @@ PairStyle(peri/nospd/hs,PairPeriNospdHS);
 #ifndef LMP_PAIR_PERI_NOSPD_HS_H
 #define LMP_PAIR_PERI_NOSPD_HS_H
 
-#include "pair_peri_nospd.h"
+#include "pair_peri_nospd_base.h"
 
 #include "nospd_bond_associated.h"
 #include "nospd_bond_history.h"
@@ -28,14 +28,15 @@ namespace LAMMPS_NS {
 /* Horizon-stabilized (bond-associated) correspondence peridynamics (Chen
    2018; Chen and Spencer 2019): every bond gets the deformation gradient
    of the part of the family within ratio*delta of its far end.  Forms I
-   and II, see nospd_bond_associated.h.  Settings, materials and the bonds
-   fix come from the classical style; the force pass is its own.
+   and II, see nospd_bond_associated.h.  A sibling of the classical style:
+   settings, materials, the bonds fix and the stabilization's force pass
+   come from their common base (PairPeriNospdBase); the force pass is its own.
 
    Each owned atom evaluates its own family and scatters the forces onto
    its partners, ghosts included; a reverse communication brings those
    home.  That needs ghosts only within delta, as the classical style does,
    and no per-bond data in flight. */
-class PairPeriNospdHS : public PairPeriNospd {
+class PairPeriNospdHS : public PairPeriNospdBase {
  public:
   PairPeriNospdHS(class LAMMPS *);
   ~PairPeriNospdHS() override;

@@ -4,7 +4,7 @@
    barostats, the plane assumption, the restart's history law.
 ------------------------------------------------------------------------- */
 
-#include "pair_peri_nospd.h"
+#include "pair_peri_nospd_base.h"
 
 #include "atom.h"
 #include "comm.h"
@@ -34,7 +34,7 @@ static constexpr double BIG = 1.0e300;
 
 /* ---------------------------------------------------------------------- */
 
-double PairPeriNospd::init_one(int i, int j)
+double PairPeriNospdBase::init_one(int i, int j)
 {
   check_material(i);
   check_material(j);
@@ -45,7 +45,7 @@ double PairPeriNospd::init_one(int i, int j)
 
 /* ---------------------------------------------------------------------- */
 
-void PairPeriNospd::init_style()
+void PairPeriNospdBase::init_style()
 {
   const std::string cmd = std::string("pair_style ") + force->pair_style;
   check_run_environment(cmd);
@@ -64,7 +64,7 @@ void PairPeriNospd::init_style()
    z; barostats and a minimizer that needs a potential are warned about
 ------------------------------------------------------------------------- */
 
-void PairPeriNospd::check_run_environment(const std::string &cmd)
+void PairPeriNospdBase::check_run_environment(const std::string &cmd)
 {
   check_hybrid_names();
   if (!atom->peri_flag) error->all(FLERR, "{} requires atom_style peri", cmd);
@@ -96,7 +96,7 @@ void PairPeriNospd::check_run_environment(const std::string &cmd)
    horizons reach beyond the spacing of the points
 ------------------------------------------------------------------------- */
 
-void PairPeriNospd::check_points(const std::string &cmd)
+void PairPeriNospdBase::check_points(const std::string &cmd)
 {
   const int dim = domain->dimension;
   // volumes and densities: a zero one would make K or the mass vanish
@@ -148,7 +148,7 @@ void PairPeriNospd::check_points(const std::string &cmd)
    forward communication carries
 ------------------------------------------------------------------------- */
 
-void PairPeriNospd::setup_type_constants()
+void PairPeriNospdBase::setup_type_constants()
 {
   const int dim = domain->dimension;
   // per-type constants of the law and of the stabilization
@@ -173,7 +173,7 @@ void PairPeriNospd::setup_type_constants()
    history size a point needs
 ------------------------------------------------------------------------- */
 
-int PairPeriNospd::setup_laws(const std::string &cmd)
+int PairPeriNospdBase::setup_laws(const std::string &cmd)
 {
   // inelastic types: history in the bonds fix, a temperature source
   // user materials: formula laws go into lame[i].user, UMATs are opened
@@ -214,7 +214,7 @@ int PairPeriNospd::setup_laws(const std::string &cmd)
    influence, tolerances, wave micromodulus, stiffness bound) set
 ------------------------------------------------------------------------- */
 
-void PairPeriNospd::configure_bonds_fix(int history_size)
+void PairPeriNospdBase::configure_bonds_fix(int history_size)
 {
   const int dim = domain->dimension;
   ensure_bonds_fix();
@@ -261,7 +261,7 @@ void PairPeriNospd::configure_bonds_fix(int history_size)
    bond-associated style gives its own (family_row_bound).
 ------------------------------------------------------------------------- */
 
-void PairPeriNospd::set_stiffness_bound(NospdBondModel &m)
+void PairPeriNospdBase::set_stiffness_bound(NospdBondModel &m)
 {
   const int ntypes = atom->ntypes;
   stress_norm.assign(ntypes + 1, 0.0);
@@ -296,7 +296,7 @@ void PairPeriNospd::set_stiffness_bound(NospdBondModel &m)
    record (the stabilization's tensors, the quadratic fit's Q): raise it.
 ------------------------------------------------------------------------- */
 
-void PairPeriNospd::raise_hybrid_comm_forward()
+void PairPeriNospdBase::raise_hybrid_comm_forward()
 {
   if (force->pair && force->pair != this)
     force->pair->comm_forward = MAX(force->pair->comm_forward, comm_forward);
@@ -304,7 +304,7 @@ void PairPeriNospd::raise_hybrid_comm_forward()
 
 /* ---------------------------------------------------------------------- */
 
-void PairPeriNospd::warn_barostats(const std::string &cmd)
+void PairPeriNospdBase::warn_barostats(const std::string &cmd)
 {
   if (comm->me != 0) return;
   for (const auto *f : modify->get_fix_list())
@@ -321,7 +321,7 @@ void PairPeriNospd::warn_barostats(const std::string &cmd)
    would give bonds an out-of-plane part: energy and z forces at rest)
 ------------------------------------------------------------------------- */
 
-void PairPeriNospd::check_one_plane(double spacing)
+void PairPeriNospdBase::check_one_plane(double spacing)
 {
   double lo[2] = {BIG, BIG}, hi[2] = {-BIG, -BIG};    // z of x, of x0
   for (int i = 0; i < atom->nlocal; i++) {
@@ -350,7 +350,7 @@ void PairPeriNospd::check_one_plane(double spacing)
    restart file does not hold the law: nothing to check then).
 ------------------------------------------------------------------------- */
 
-void PairPeriNospd::check_history_law()
+void PairPeriNospdBase::check_history_law()
 {
   const int ntypes = atom->ntypes;
   std::vector<int> &last = fix_bonds->history_law;
@@ -413,7 +413,7 @@ void PairPeriNospd::check_history_law()
    restart, under one ID so that it gets its restart data back.
 ------------------------------------------------------------------------- */
 
-void PairPeriNospd::ensure_bonds_fix()
+void PairPeriNospdBase::ensure_bonds_fix()
 {
   auto *f = modify->get_fix_by_id(FixNospdBonds::ID);
   if (fix_bonds) {

@@ -5,7 +5,7 @@
    style's per-type material table.  Every number through nospd_input.h.
 ------------------------------------------------------------------------- */
 
-#include "pair_peri_nospd.h"
+#include "pair_peri_nospd_base.h"
 
 #include "atom.h"
 #include "comm.h"
@@ -54,7 +54,7 @@ static bool parses_as_number(const char *word)
      umat lib [symbol s] [props N ...] [statev N]   strain umat
 ------------------------------------------------------------------------- */
 
-void PairPeriNospd::parse_inelastic(const std::vector<std::string> &words, NOSPD::FlowLaw &fl,
+void PairPeriNospdBase::parse_inelastic(const std::vector<std::string> &words, NOSPD::FlowLaw &fl,
                                     NOSPD::ThermalLaw &th, NOSPD::DruckerPrager &dp,
                                     NospdUserMaterials::Spec &us,
                                     bool &thermal_ref_given, const std::string &where) const
@@ -119,7 +119,7 @@ void PairPeriNospd::parse_inelastic(const std::vector<std::string> &words, NOSPD
    the n numbers after words[k] (keyword key); k moves past them
 ------------------------------------------------------------------------- */
 
-std::vector<double> PairPeriNospd::keyword_values(const std::vector<std::string> &words,
+std::vector<double> PairPeriNospdBase::keyword_values(const std::vector<std::string> &words,
                                                   size_t &k, size_t n, const std::string &key,
                                                   const std::string &where) const
 {
@@ -138,7 +138,7 @@ std::vector<double> PairPeriNospd::keyword_values(const std::vector<std::string>
    drucker_prager and the J2 laws replace each other the same way
 ------------------------------------------------------------------------- */
 
-void PairPeriNospd::flow_law_exclusions(const std::vector<std::string> &words,
+void PairPeriNospdBase::flow_law_exclusions(const std::vector<std::string> &words,
                                         NOSPD::FlowLaw &fl, NOSPD::DruckerPrager &dp,
                                         const std::string &where) const
 {
@@ -166,7 +166,7 @@ void PairPeriNospd::flow_law_exclusions(const std::vector<std::string> &words,
    hardening linear H | power K n at words[k]: the index after its values
 ------------------------------------------------------------------------- */
 
-size_t PairPeriNospd::hardening_of(const std::vector<std::string> &words, size_t k,
+size_t PairPeriNospdBase::hardening_of(const std::vector<std::string> &words, size_t k,
                                    NOSPD::FlowLaw &fl, const std::string &where) const
 {
   using NOSPD::Hardening;
@@ -200,7 +200,7 @@ size_t PairPeriNospd::hardening_of(const std::vector<std::string> &words, size_t
    the flow law as a whole: keywords that need another one
 ------------------------------------------------------------------------- */
 
-void PairPeriNospd::check_flow_law(const NOSPD::FlowLaw &fl, const NOSPD::ThermalLaw &th,
+void PairPeriNospdBase::check_flow_law(const NOSPD::FlowLaw &fl, const NOSPD::ThermalLaw &th,
                                    const NOSPD::DruckerPrager &dp, const std::string &where) const
 {
   using NOSPD::Hardening;
@@ -219,7 +219,7 @@ void PairPeriNospd::check_flow_law(const NOSPD::FlowLaw &fl, const NOSPD::Therma
    johnson_cook A B n C rate0 m T_ref T_melt (kinematic hardening kept)
 ------------------------------------------------------------------------- */
 
-NOSPD::FlowLaw PairPeriNospd::johnson_cook_of(const std::vector<double> &v, double Hkin,
+NOSPD::FlowLaw PairPeriNospdBase::johnson_cook_of(const std::vector<double> &v, double Hkin,
                                               const std::string &where) const
 {
   if (!(v[0] > 0.0)) error->all(FLERR, "{}: johnson_cook A (yield stress) must be > 0, got {}", where, v[0]);
@@ -252,7 +252,7 @@ NOSPD::FlowLaw PairPeriNospd::johnson_cook_of(const std::vector<double> &v, doub
    plastic increment
 ------------------------------------------------------------------------- */
 
-void PairPeriNospd::check_jc_failure(const std::vector<double> &v, const std::string &where) const
+void PairPeriNospdBase::check_jc_failure(const std::vector<double> &v, const std::string &where) const
 {
   for (double sstar : {0.0, 1.0 / 3.0}) {
     const double ef = v[0] + v[1] * std::exp(v[2] * sstar);
@@ -268,7 +268,7 @@ void PairPeriNospd::check_jc_failure(const std::vector<double> &v, const std::st
    cohesion and its hardening modulus (nospd_drucker_prager.h)
 ------------------------------------------------------------------------- */
 
-NOSPD::DruckerPrager PairPeriNospd::drucker_prager_of(const std::vector<double> &v,
+NOSPD::DruckerPrager PairPeriNospdBase::drucker_prager_of(const std::vector<double> &v,
                                                       const std::string &where) const
 {
   if (!(v[0] > 0.0 && v[0] < 90.0))
@@ -475,7 +475,7 @@ void MaterialFile::entry_error(const FileEntry &entry, const std::string &what) 
    the entry `name` of a material file, read on rank 0, on every rank
 ------------------------------------------------------------------------- */
 
-PairPeriNospd::FileMaterial PairPeriNospd::read_material_file(const std::string &file,
+PairPeriNospdBase::FileMaterial PairPeriNospdBase::read_material_file(const std::string &file,
                                                               const std::string &name)
 {
   const std::string cmd = std::string("pair_coeff (") + force->pair_style + ")";
@@ -524,7 +524,7 @@ PairPeriNospd::FileMaterial PairPeriNospd::read_material_file(const std::string 
    energy (fix nospd/damage ... g0 then needs its own).
 ------------------------------------------------------------------------- */
 
-void PairPeriNospd::check_file_material(const std::string &where, const FileMaterial &m) const
+void PairPeriNospdBase::check_file_material(const std::string &where, const FileMaterial &m) const
 {
   if (!(std::isfinite(m.density) && m.density > 0.0))
     error->all(FLERR, "{}: density must be finite and > 0, got {}", where, m.density);
@@ -542,7 +542,7 @@ void PairPeriNospd::check_file_material(const std::string &where, const FileMate
 
 static constexpr double E_MAX = 1.0e100;
 
-void PairPeriNospd::check_modulus(const std::string &where, double E) const
+void PairPeriNospdBase::check_modulus(const std::string &where, double E) const
 {
   if (!std::isfinite(E))
     error->all(FLERR, "{}: Young's modulus E must be finite, got {}", where, E);
@@ -557,7 +557,7 @@ void PairPeriNospd::check_modulus(const std::string &where, double E) const
    not LAMMPS's "expected floating point" about a valid-looking word)
 ------------------------------------------------------------------------- */
 
-double PairPeriNospd::inline_number(const std::string &cmd, const char *what, const char *arg) const
+double PairPeriNospdBase::inline_number(const std::string &cmd, const char *what, const char *arg) const
 {
   return NOSPD_INPUT::real(error, cmd, what, arg);
 }
@@ -567,7 +567,7 @@ double PairPeriNospd::inline_number(const std::string &cmd, const char *what, co
    again at init, since a later pair_style line may change those settings
 ------------------------------------------------------------------------- */
 
-void PairPeriNospd::check_poisson(const std::string &where, double nu) const
+void PairPeriNospdBase::check_poisson(const std::string &where, double nu) const
 {
   if (!(nu > -1.0 && nu < 0.5) && plane_mode != Plane::STRESS)
     error->all(FLERR, "{}: Poisson ratio nu must be in (-1, 0.5), got {}", where, nu);
@@ -586,7 +586,7 @@ void PairPeriNospd::check_poisson(const std::string &where, double nu) const
    file entry; those on the pair_coeff line come after and override them.
 ------------------------------------------------------------------------- */
 
-void PairPeriNospd::coeff(int narg, char **arg)
+void PairPeriNospdBase::coeff(int narg, char **arg)
 {
   const std::string cmd = std::string("pair_coeff (") + force->pair_style + ")";
   if (narg != 3 && narg < 5)
@@ -665,7 +665,7 @@ void PairPeriNospd::coeff(int narg, char **arg)
    an inelastic type needs a law that has an inelastic form
 ------------------------------------------------------------------------- */
 
-void PairPeriNospd::check_inelastic(int itype) const
+void PairPeriNospdBase::check_inelastic(int itype) const
 {
   const auto &fl = flow[itype];
   const auto &th = thermal[itype];
@@ -690,10 +690,10 @@ void PairPeriNospd::check_inelastic(int itype) const
    PERI_NEIGH fix, matching "peri", unambiguous beside peri/lps).
 ------------------------------------------------------------------------- */
 
-PairPeriNospd *PairPeriNospd::find(Force *force)
+PairPeriNospdBase *PairPeriNospdBase::find(Force *force)
 {
   for (const char *name : {"^peri/nospd", "^nospd"})
-    if (auto *p = dynamic_cast<PairPeriNospd *>(force->pair_match(name, 0))) return p;
+    if (auto *p = dynamic_cast<PairPeriNospdBase *>(force->pair_match(name, 0))) return p;
   return nullptr;
 }
 
@@ -704,7 +704,7 @@ PairPeriNospd *PairPeriNospd::find(Force *force)
    dereferences it in its setup.  Stop here, before that, and name the alias.
 ------------------------------------------------------------------------- */
 
-void PairPeriNospd::check_hybrid_names()
+void PairPeriNospdBase::check_hybrid_names()
 {
   if (!utils::strmatch(force->pair_style, "^hybrid")) return;
   // one bonds fix holds one bond model (horizons, influence, the owned
@@ -726,7 +726,7 @@ void PairPeriNospd::check_hybrid_names()
 
 /* ---------------------------------------------------------------------- */
 
-void PairPeriNospd::check_material(int itype) const
+void PairPeriNospdBase::check_material(int itype) const
 {
   if (!(youngs[itype] > 0.0))
     error->all(FLERR, "pair_coeff ({}): no material for atom type {}: give 'pair_coeff {} {} "
