@@ -216,67 +216,18 @@ class FamilyPlasticity : public BondLaw, public FamilyRows {
   bool replay = false;
 };
 
-/* A UMAT on one bond-associated family: every bond is an integration
-   point of its own (NPT = 2 + its slot in the pattern, 1 for the whole
-   family's F), with a UmatHist entry per partner slot.  The family's row
-   holds a UmatHist entry of beta-weighted sums (SSE, SPD, SCD, WORK: of the
-   bonds' increments) and means (STRESS, STATEV), and from `fallback` on the
-   entry of the whole family's F.  As for one point, the UMAT is called
-   with the increment from the accepted state, also at the accepted
-   configuration (a zero increment). */
-class FamilyUmat : public BondLaw, public FamilyRows {
- public:
-  const UmatMaterial *mat = nullptr;
-  UmatPoint pt;
-  int fallback = 0;    // offset of the whole family's entry in the rows
-  UmatStatus status = UmatStatus::OK;
-
-  void begin(const Mat3 &F_family) override
-  {
-    status = UmatStatus::OK;
-    Ffam = F_family;
-    acc.assign(UmatHist::size(mat->nstatev), 0.0);
-  }
-
-  bool stress(int slot, Mat3 &F, Mat3 &P, double &W) override
-  {
-    const int off = slot < 0 ? fallback : entry(slot);
-    UmatPoint p = pt;
-    p.npt = slot < 0 ? 1 : slot + 2;
-    status = umat_point(*mat, p, F, hn + off, h1 + off, P, W);
-    if (status != UmatStatus::OK) return false;
-    const double beta = slot < 0 ? fallback_beta() : pattern->beta[slot];
-    const double *b0 = hn + off, *b1 = h1 + off;
-    for (int k : {UmatHist::SSE, UmatHist::SPD, UmatHist::SCD, UmatHist::WORK})
-      acc[k] += beta * (b1[k] - b0[k]);
-    for (int k = UmatHist::STRESS; k < UmatHist::size(mat->nstatev); ++k) acc[k] += beta * b1[k];
-    return true;
-  }
-
-  // the family's row after its bonds
-  void finish()
-  {
-    for (int k : {UmatHist::SSE, UmatHist::SPD, UmatHist::SCD, UmatHist::WORK})
-      h1[k] = hn[k] + acc[k];
-    for (int k = UmatHist::STRESS; k < UmatHist::size(mat->nstatev); ++k) h1[k] = acc[k];
-    store(Ffam - Mat3::Identity(), h1 + UmatHist::FPREV);
-  }
-
- private:
-  Mat3 Ffam = Mat3::Identity();
-  std::vector<double> acc;
-};
-
 /* Any law of the material-point interface (nospd_material.h) on one
    bond-associated family: every bond is a material point of its own with
    an entry of the law's history per partner slot; the family's row holds
    an entry of beta-weighted means (the output, in the law's layout: Hist's
-   columns for a plasticity law), its dissipation column (WORK) the sum of
-   the bonds' increments, and from `fallback` on the entry of the whole
-   family's F.  A new law needs nothing here. */
+   columns for a plasticity law, UmatHist's for a UMAT), in the columns
+   that accumulate (Material::accumulates: the dissipation, a UMAT's
+   energies) the sum of the bonds' increments, and from `fallback` on the
+   entry of the whole family's F.  A UMAT sees each bond as an integration
+   point of its own (NPT 2 + its slot in the pattern, 1 for the whole
+   family's F).  A new law needs nothing here. */
 class FamilyMaterial : public BondLaw, public FamilyRows {
  public:
-  static constexpr int WORK = Hist::WORK;    // the interface's dissipation column
   const Material *mat = nullptr;
   MaterialEnv env;
   PointStatus status;
@@ -288,18 +239,26 @@ class FamilyMaterial : public BondLaw, public FamilyRows {
   void begin(const Mat3 &) override
   {
     status = PointStatus();
-    acc.assign(mat->history_size(), 0.0);
+    const int n = mat->history_size();
+    acc.assign(n, 0.0);
+    if ((int) accum.size() != n || accum_of != mat) {
+      accum.resize(n);
+      for (int k = 0; k < n; ++k) accum[k] = mat->accumulates(k);
+      accum_of = mat;
+    }
   }
 
   bool stress(int slot, Mat3 &F, Mat3 &P, double &W) override
   {
     const int off = slot < 0 ? fallback() : entry(slot);
-    status = mat->stress(F, hn + off, h1 + off, env, P, W);
+    MaterialEnv e = env;
+    e.point = slot < 0 ? 0 : slot + 1;
+    status = mat->stress(F, hn + off, h1 + off, e, P, W);
     if (!status.ok()) return false;
     const double beta = slot < 0 ? fallback_beta() : pattern->beta[slot];
     const int n = mat->history_size();
     for (int k = 0; k < n; ++k)
-      acc[k] += beta * (k == WORK ? h1[off + k] - hn[off + k] : h1[off + k]);
+      acc[k] += beta * (accum[k] ? h1[off + k] - hn[off + k] : h1[off + k]);
     return true;
   }
 
@@ -307,11 +266,13 @@ class FamilyMaterial : public BondLaw, public FamilyRows {
   void finish()
   {
     const int n = mat->history_size();
-    for (int k = 0; k < n; ++k) h1[k] = (k == WORK ? hn[k] : 0.0) + acc[k];
+    for (int k = 0; k < n; ++k) h1[k] = (accum[k] ? hn[k] : 0.0) + acc[k];
   }
 
  private:
   std::vector<double> acc;
+  std::vector<char> accum;    // accumulates(k) of mat, once per law
+  const Material *accum_of = nullptr;
 };
 
 /* The stress of one bond (or of the whole family's F, for the fallback

@@ -28,6 +28,8 @@ struct MaterialEnv {
   double T = 0.0;                       // the user's temperature
   double rho = 0.0;                     // mass density
   const UmatPoint *umat = nullptr;      // a UMAT's point data (wants_point_data)
+  int point = 0;    // integration point within the point: 0 itself (or a bond-
+                    // associated family's whole F), 1 + slot a bond of its family
 };
 
 // what went wrong, for the caller's message: the law's family and its code
@@ -42,6 +44,9 @@ class Material {
   virtual ~Material() = default;
   virtual int history_size() const { return 0; }
   virtual bool wants_point_data() const { return false; }
+  // a history column that accumulates increments (a bond-associated family
+  // sums its bonds' increments there, and averages every other column)
+  virtual bool accumulates(int column) const { return column == Hist::WORK; }
   virtual PointStatus stress(Mat3 &F, const double *hn, double *h1, const MaterialEnv &env,
                              Mat3 &P, double &W) const = 0;
   // dP/dF at F from hn (false where the law offers none)
@@ -153,10 +158,17 @@ class UmatPointMaterial : public Material {
   explicit UmatPointMaterial(const UmatMaterial &u) : u(u) {}
   int history_size() const override { return UmatHist::size(u.nstatev); }
   bool wants_point_data() const override { return true; }
+  bool accumulates(int column) const override
+  {
+    return column == UmatHist::SSE || column == UmatHist::SPD || column == UmatHist::SCD ||
+        column == UmatHist::WORK;
+  }
   PointStatus stress(Mat3 &F, const double *hn, double *h1, const MaterialEnv &env, Mat3 &P,
                      double &W) const override
   {
-    const UmatStatus st = umat_point(u, *env.umat, F, hn, h1, P, W);
+    UmatPoint pt = *env.umat;
+    pt.npt += env.point;    // NPT 1 the point, 2 + slot a bond of its family
+    const UmatStatus st = umat_point(u, pt, F, hn, h1, P, W);
     if (st == UmatStatus::OK) return {};
     return {PointStatus::UMAT, static_cast<int>(st)};
   }

@@ -190,7 +190,6 @@ void PairPeriNospdHS::init_style()
   // (nospd_bond_history.h): J2/Johnson-Cook's compact per-bond state, a
   // UMAT's family row a UmatHist entry of sums and means then that of the
   // whole family's F, any other law its own history per bond
-  const int umat_size = user_materials->history_size();
   for (int i = 1; i <= atom->ntypes; i++) {
     if (!active[i]) continue;
     if (bond_material(i))
@@ -198,7 +197,6 @@ void PairPeriNospdHS::init_style()
                                   materials[i]->history_size());
     else if (has_history(i))
       fix_bonds->set_history_size(NOSPD::FamilyHist::SIZE, NOSPD::BondHist::SIZE);
-    if (is_umat(i)) fix_bonds->set_history_size(2 * umat_size, umat_size);
   }
   // the classical B (H) and s travel with a stabilization; the stencil's
   // keys and flags at least
@@ -476,6 +474,10 @@ void PairPeriNospdHS::begin_history(int i, const BondPattern &p, FamilyWork &w, 
     law.env.dt = update->whichflag == 2 ? 0.0 : update->dt;    // minimize: quasi-static
     law.env.T = temperature_base[i];
     law.env.rho = atom->rmass[i];
+    if (law.mat->wants_point_data()) {
+      laws.point_data = umat_env(i);
+      law.env.umat = &laws.point_data;
+    }
     rows = &law;
     laws.active = &law;
   } else if (has_history(itype)) {
@@ -489,13 +491,6 @@ void PairPeriNospdHS::begin_history(int i, const BondPattern &p, FamilyWork &w, 
     law.env.T_base = temperature_base[i];
     law.env.rho = atom->rmass[i];
     law.bond_return = bond_return_kernel;
-    rows = &law;
-    laws.active = &law;
-  } else if (is_umat(itype)) {
-    NOSPD::FamilyUmat &law = laws.umat;
-    law.mat = &user_materials->umat(itype);
-    law.pt = umat_env(i);
-    law.fallback = user_materials->history_size();
     rows = &law;
     laws.active = &law;
   } else {
@@ -517,10 +512,6 @@ void PairPeriNospdHS::begin_history(int i, const BondPattern &p, FamilyWork &w, 
 
 void PairPeriNospdHS::finish_history(int i, LaneLaws &laws, int eflag, bool minimizing, Tally &t)
 {
-  if (laws.active == &laws.umat) {
-    laws.umat.finish();
-    return;
-  }
   if (laws.active == &laws.material) laws.material.finish();
   else laws.plastic.finish();
   if (eflag && minimizing)
@@ -551,10 +542,6 @@ void PairPeriNospdHS::bond_failure(int i, const NOSPD::StateOutput &out, tagint 
 
 void PairPeriNospdHS::family_failure(int i, const LaneLaws &laws, const Mat3 &F) const
 {
-  if (laws.active == &laws.umat) {
-    if (laws.umat.status != NOSPD::UmatStatus::OK) umat_failure(i, laws.umat.status, F);
-    return;
-  }
   if (laws.active == &laws.material) {
     if (!laws.material.status.ok()) material_failure(i, laws.material.status, F);
     return;

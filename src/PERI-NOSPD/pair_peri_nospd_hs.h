@@ -143,12 +143,12 @@ class PairPeriNospdHS : public PairPeriNospdBase {
   void gather_family(int i, const NOSPD::BondPattern &p, const uint16_t *perm, FamilyWork &w,
                      int lane);
   // inelastic families: their law with history per bond-associated family
-  // (built-in J2/Johnson-Cook, a UMAT, or any other law of the material
-  // interface); `active` is the one in use, if any
+  // (J2/Johnson-Cook's compact per-bond state, or any other law of the
+  // material interface, UMATs included); `active` is the one in use, if any
   struct LaneLaws {
     NOSPD::FamilyPlasticity plastic;
-    NOSPD::FamilyUmat umat;
     NOSPD::FamilyMaterial material;
+    NOSPD::UmatPoint point_data;    // a UMAT's (Material::wants_point_data)
     NOSPD::BondLaw *active = nullptr;
   };
   void begin_history(int i, const NOSPD::BondPattern &p, FamilyWork &w, int lane,

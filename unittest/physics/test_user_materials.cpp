@@ -604,6 +604,52 @@ TEST(UserUmat, RestartWithAnotherStatevCountIsAnError)
   std::remove(file.c_str());
 }
 
+/* The integration points a UMAT sees (umat_elastic.f with PROPS(7) stores
+   NPT and NOEL): the classical style calls it once per point, NPT 1 and NOEL
+   the atom ID; the bond-associated style once per bond, each bond of a
+   family an integration point of its own, NPT 2 .. n + 1 over its n bonds. */
+TEST(UserUmat, EachBondIsAnIntegrationPoint)
+{
+  using NOSPD::UmatHist::STATEV;
+  for (const std::string style : {"peri/nospd", "peri/nospd/hs"}) {
+    SCOPED_TRACE(style);
+    LAMMPS *lmp = open_lammps();
+    Block b;
+    b.n = 5;
+    b.style = style;
+    b.settings = "strain umat";
+    make_block(lmp, b);
+    cmd(lmp, "pair_coeff * * " + num(E) + " " + num(NU) + " " + num(b.delta()) + " umat " +
+                 umat_lib("umat_elastic.so") + " props 7 " + num(E) + " " + num(NU) +
+                 " 0 0 0 0 1 statev 5");
+    cmd(lmp, "run 1");    // the step's states, accepted
+    auto *fb = static_cast<LAMMPS_NS::FixNospdBonds *>(lmp->modify->get_fix_by_id("NOSPD_BONDS"));
+    int checked = 0;
+    for (int i = 0; i < lmp->atom->nlocal; i++) {
+      const double tag = (double) lmp->atom->tag[i];
+      double *row = fb->history[i];
+      if (style == "peri/nospd") {
+        ASSERT_EQ(row[STATEV + 3], 1.0) << "atom " << tag;
+        ASSERT_EQ(row[STATEV + 4], tag);
+        checked++;
+        continue;
+      }
+      const int n = fb->npartner[i];
+      std::vector<double> npt;
+      for (int s = 0; s < n; s++) {
+        const double *e = fb->bond_history(row, s);
+        ASSERT_EQ(e[STATEV + 4], tag) << "atom " << tag << " slot " << s;
+        npt.push_back(e[STATEV + 3]);
+      }
+      std::sort(npt.begin(), npt.end());
+      for (int s = 0; s < n; s++) ASSERT_EQ(npt[s], s + 2.0) << "atom " << tag;
+      checked += n;
+    }
+    EXPECT_GT(checked, style == "peri/nospd" ? 100 : 2000);
+    delete lmp;
+  }
+}
+
 TEST(UserUmat, J2MatchesBuiltinWithRestart)
 {
   const std::string j2 = "yield 3e8 hardening linear 2e10";

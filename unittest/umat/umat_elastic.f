@@ -4,7 +4,8 @@ c     reference).  PROPS(1) = E, PROPS(2) = nu; PROPS(3) /= 0 makes it
 c     return a NaN stress (the bad-output check); PROPS(4) = n makes it
 c     write STATEV(1..n) whatever NSTATV is (the overflow check),
 c     adding I to STATEV(I) instead when PROPS(5) /= 0; PROPS(6) /= 0
-c     stores TIME(1), TIME(2), DTIME in STATEV(1..3).  Works for NTENS = 6
+c     stores TIME(1), TIME(2), DTIME in STATEV(1..3); PROPS(7) /= 0
+c     stores NPT and NOEL in STATEV(4..5).  Works for NTENS = 6
 c     (3D) and NTENS = 4 (plane strain).  SSE by the trapezoidal rule,
 c     exact for a linear law.
       subroutine umat(stress,statev,ddsdde,sse,spd,scd,
@@ -57,6 +58,12 @@ c     exact for a linear law.
           statev(1) = time(1)
           statev(2) = time(2)
           statev(3) = dtime
+        end if
+      end if
+      if (nprops .ge. 7) then
+        if (props(7) .ne. 0.d0) then
+          statev(4) = dble(npt)
+          statev(5) = dble(noel)
         end if
       end if
       if (nprops .ge. 4) then
