@@ -76,10 +76,8 @@ FixNospdBonds::FixNospdBonds(LAMMPS *lmp, int narg, char **arg) :
     singular(nullptr),
     defgrad(nullptr), pk1(nullptr), energy_density(nullptr), nsingular(0), nbonds_total(0),
     nbonds_broken(0), nbonds_vanished(0), nmax_bonds(0), nmax_first(0), nmax_x0s(0), stale(nullptr),
-    all_stale(true), trial_ready(0), x0s_store(nullptr), ref_box_set(0), own_tag(nullptr), family_type(nullptr)
+    all_stale(true), x0s_store(nullptr), ref_box_set(0), own_tag(nullptr), family_type(nullptr)
 {
-  nhistory = nhist_atom = nhist_bond = hist_slots = 0;
-  history = history_trial = nullptr;
   if (narg != 3) error->all(FLERR, "Illegal fix {} command: takes no arguments", style);
   vector_flag = 1;
   size_vector = 5;
@@ -120,7 +118,7 @@ void FixNospdBonds::clear_atom(int i)
   energy_density[i] = 0.0;
   own_tag[i] = 0;
   family_type[i] = 0;
-  for (int k = 0; k < nhistory; k++) history[i][k] = history_trial[i][k] = 0.0;
+  hist.clear(i);
 }
 
 /* ---------------------------------------------------------------------- */
@@ -163,8 +161,6 @@ FixNospdBonds::~FixNospdBonds()
   memory->destroy(energy_density);
   memory->destroy(own_tag);
   memory->destroy(family_type);
-  memory->destroy(history);
-  memory->destroy(history_trial);
 }
 
 /* ---------------------------------------------------------------------- */
@@ -767,10 +763,7 @@ void FixNospdBonds::grow_arrays(int nmax)
   memory->grow(energy_density, nmax, "nospd/bonds:energy_density");
   memory->grow(own_tag, nmax, "nospd/bonds:own_tag");
   memory->grow(family_type, nmax, "nospd/bonds:family_type");
-  if (nhistory) {
-    memory->grow(history, nmax, nhistory, "nospd/bonds:history");
-    memory->grow(history_trial, nmax, nhistory, "nospd/bonds:history_trial");
-  }
+  hist.grow(nmax);
 }
 
 /* ---------------------------------------------------------------------- */
@@ -816,10 +809,7 @@ void FixNospdBonds::copy_arrays(int i, int j, int /*delflag*/)
   energy_density[j] = energy_density[i];
   own_tag[j] = own_tag[i];
   family_type[j] = family_type[i];
-  for (int k = 0; k < nhistory; k++) {
-    history[j][k] = history[i][k];
-    history_trial[j][k] = history_trial[i][k];
-  }
+  hist.copy(i, j);
 }
 
 /* ----------------------------------------------------------------------

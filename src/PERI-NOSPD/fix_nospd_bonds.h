@@ -12,6 +12,7 @@ FixStyle(PERI_NEIGH/NOSPD,FixNospdBonds);
 #define LMP_FIX_NOSPD_BONDS_H
 
 #include "fix_peri_neigh.h"
+#include "nospd_history_store.h"
 #include "nospd_stabilization.h"
 
 #include "nospd_bond_sums.h"
@@ -178,15 +179,17 @@ class FixNospdBonds : public FixPeriNeigh {
   // partner when broken slots are dropped (migration, restart).
   void set_history_size(int n_atom, int n_bond = 0);
   void drop_history();
-  void trial_history_ready() { trial_ready = 1; }
-  void commit_history();
+  void trial_history_ready() { hist.trial_ready = true; }
+  void commit_history() { hist.commit(); }
   // the n_bond values of partner slot `slot` in a history row
-  double *bond_history(double *row, int slot) const { return row + nhist_atom + nhist_bond * slot; }
-  int nhistory;              // values per atom, 0 if no type has history
-  int nhist_atom;            // of which the atom's own
-  int nhist_bond;            // and per partner slot
-  double **history;          // [nmax][nhistory], accepted
-  double **history_trial;    // [nmax][nhistory], latest force evaluation
+  double *bond_history(double *row, int slot) const { return hist.bond(row, slot); }
+  NospdHistoryStore hist{memory};    // the rows, owned here (nospd_history_store.h)
+  // its fields under the names the pair styles, computes and tests read
+  int &nhistory = hist.n;                  // values per atom, 0 if no type has history
+  int &nhist_atom = hist.n_atom;           // of which the atom's own
+  int &nhist_bond = hist.n_bond;           // and per partner slot
+  double **&history = hist.accepted;       // [nmax][nhistory], accepted
+  double **&history_trial = hist.trial;    // [nmax][nhistory], latest force evaluation
   double history_sum(int k); // sum over atoms of current_history()[k] (global)
   // the rows to report (computes, sums): the accepted ones, except during
   // a minimization, which accepts its trial rows only at its end (post_run)
@@ -261,8 +264,6 @@ class FixNospdBonds : public FixPeriNeigh {
   int nmax_bonds, nmax_first, nmax_x0s;
   int *stale;               // [nmax] K^-1 to recompute
   bool all_stale;
-  int trial_ready;
-  int hist_slots;    // partner slots the history rows hold (maxpartner when laid out)
   void layout_history(int n_atom, int n_bond);
   int pack_history(int i, double *buf) const;
   int unpack_history(int i, const double *buf, int n_atom, int n_bond);
