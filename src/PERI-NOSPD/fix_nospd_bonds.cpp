@@ -76,7 +76,7 @@ FixNospdBonds::FixNospdBonds(LAMMPS *lmp, int narg, char **arg) :
     singular(nullptr),
     defgrad(nullptr), pk1(nullptr), energy_density(nullptr), nsingular(0), nbonds_total(0),
     nbonds_broken(0), nbonds_vanished(0), nmax_bonds(0), nmax_first(0), nmax_x0s(0), stale(nullptr),
-    all_stale(true), x0s_store(nullptr), ref_box_set(0), own_tag(nullptr), family_type(nullptr)
+    all_stale(true), x0s_store(nullptr), own_tag(nullptr), family_type(nullptr)
 {
   if (narg != 3) error->all(FLERR, "Illegal fix {} command: takes no arguments", style);
   vector_flag = 1;
@@ -86,7 +86,6 @@ FixNospdBonds::FixNospdBonds(LAMMPS *lmp, int narg, char **arg) :
   extvector = 0;
   maxexchange_dynamic = 1;
   comm_forward = 2;    // FixPeriNeigh's 1, or the operator bound's 2
-  for (int k = 0; k < 6; k++) ref_h[k] = last_h[k] = 0.0;
   for (int k = 0; k < 6; k++) created_h[k] = domain->h[k];
 
   FixNospdBonds::grow_arrays(atom->nmax);
@@ -133,10 +132,10 @@ FixNospdBonds::~FixNospdBonds()
                    nbonds_broken > 0 ? fmt::format(" with their {} broken bonds", nbonds_broken)
                                      : std::string(),
                    nhistory ? " and the plastic state" : "");
-  if (lmp->update && ref_box_set && built_periodic > 0 && x0_print_set) {
+  if (lmp->update && ref_box.set && built_periodic > 0 && x0_print_set) {
     ReplacedBox &r = replaced_boxes[lmp];
-    std::copy(ref_h, ref_h + 6, r.ref_h);
-    std::copy(last_h, last_h + 6, r.last_h);
+    std::copy(ref_box.ref, ref_box.ref + 6, r.ref_h);
+    std::copy(ref_box.last, ref_box.last + 6, r.last_h);
     std::copy(x0_print, x0_print + 7, r.print);
     r.initclock = lmp->initclock;
   } else if (!lmp->update) {
@@ -195,7 +194,7 @@ void FixNospdBonds::setup(int /*vflag*/) {}
 
 void FixNospdBonds::setup_post_neighbor()
 {
-  const bool had_reference_box = ref_box_set;    // from a restart file
+  const bool had_reference_box = ref_box.set;    // from a restart file
   update_x0s();
   const bool built_now = first;
   if (first) {
@@ -287,18 +286,18 @@ bool FixNospdBonds::take_replaced_box()
     const double tol = 1.0e-12 * (k < 6 ? scale : scale * atom->natoms);
     if (std::abs(saved.print[k] - x0_print[k]) > tol) return false;
   }
-  std::copy(saved.ref_h, saved.ref_h + 6, ref_h);
-  std::copy(saved.last_h, saved.last_h + 6, last_h);
-  ref_box_set = 1;
+  std::copy(saved.ref_h, saved.ref_h + 6, ref_box.ref);
+  std::copy(saved.last_h, saved.last_h + 6, ref_box.last);
+  ref_box.set = true;
   update_x0s();    // follows flips since (follow_box) and shifts the images
   bool deformed = false;
   for (int k = 0; k < 6; k++)
-    if (std::abs(ref_h[k] - domain->h[k]) > 1.0e-12 * scale) deformed = true;
+    if (std::abs(ref_box.ref[k] - domain->h[k]) > 1.0e-12 * scale) deformed = true;
   if (deformed && comm->me == 0)
     utils::logmesg(lmp,
                    "  Fix {}: the families of the replaced pair style had the reference box "
                    "{} x {} x {}; the new ones keep it (the box was deformed since)\n",
-                   id, ref_h[0], ref_h[1], ref_h[2]);
+                   id, ref_box.ref[0], ref_box.ref[1], ref_box.ref[2]);
   return true;
 }
 
@@ -338,7 +337,7 @@ void FixNospdBonds::adopt_box_of_creation()
   for (int k = 0; k < 3; k++)
     if (periodic[k]) lmin = std::min(lmin, domain->prd[k]);
   if (moved_all <= 1.0e-9 * lmin) return;
-  for (int k = 0; k < 6; k++) ref_h[k] = created_h[k];
+  for (int k = 0; k < 6; k++) ref_box.ref[k] = created_h[k];
   update_x0s();
   if (comm->me == 0)
     utils::logmesg(lmp,

@@ -13,6 +13,7 @@ FixStyle(PERI_NEIGH/NOSPD,FixNospdBonds);
 
 #include "fix_peri_neigh.h"
 #include "nospd_history_store.h"
+#include "nospd_reference_box.h"
 #include "nospd_stabilization.h"
 
 #include "nospd_bond_sums.h"
@@ -269,11 +270,9 @@ class FixNospdBonds : public FixPeriNeigh {
   int unpack_history(int i, const double *buf, int n_atom, int n_bond);
   double **x0s_store;    // x0s when the box is periodic (else x0s = atom->x0)
   std::vector<double> x_padded, x0_padded;    // padded_positions()' copies, when needed
-  int ref_box_set;       // ref_h holds the box of the first build
-  // the reference box (lengths and tilts as domain->h: xprd yprd zprd yz xz
-  // xy) in the basis of the current box, and the box when last seen (a
-  // flip of a triclinic box changes the basis of both)
-  double ref_h[6], last_h[6];
+  // the reference box (lengths and tilts as domain->h) in the basis of the
+  // current box, followed through flips; the reference bonds' geometry
+  NOSPD::ReferenceBox ref_box;
   void follow_box();
   int built_periodic = -1;    // periodic dimensions (bits x y z) at the first build
   double created_h[6];        // the box when the fix was made (first pair_coeff)

@@ -17,6 +17,7 @@
 
 #include "nospd_bond_sums.h"
 #include "nospd_plasticity.h"
+#include "nospd_reference_box.h"
 #include "nospd_tensor.h"
 
 #include <algorithm>
@@ -58,7 +59,7 @@ void FixNospdBonds::update_x0s()
   x0s_store[nall][0] = x0s_store[nall][1] = x0s_store[nall][2] = 0.0;
   double **x = atom->x;
   double **x0 = atom->x0;
-  const double *h = domain->h, *r = ref_h;
+  const double *h = domain->h;
   double um[3];
   mean_displacement(um);
   for (int i = 0; i < nall; i++) {
@@ -71,9 +72,9 @@ void FixNospdBonds::update_x0s()
     const double n2 = std::round(s2 / h[2]);
     const double n1 = std::round((s1 - n2 * h[3]) / h[1]);
     const double n0 = std::round((s0 - n1 * h[5] - n2 * h[4]) / h[0]);
-    x0s_store[i][0] = x0[i][0] + (n0 * r[0] + n1 * r[5] + n2 * r[4]);
-    x0s_store[i][1] = x0[i][1] + (n1 * r[1] + n2 * r[3]);
-    x0s_store[i][2] = x0[i][2] + n2 * r[2];
+    double shift[3];
+    ref_box.image(n0, n1, n2, shift);
+    for (int k = 0; k < 3; k++) x0s_store[i][k] = x0[i][k] + shift[k];
   }
   x0s = x0s_store;
 }
@@ -114,65 +115,19 @@ void FixNospdBonds::mean_displacement(double *um) const
 }
 
 /* ----------------------------------------------------------------------
-   the reference box follows the basis of the current one: a triclinic box
-   that fix deform or change_box flips (xy -> xy - lx, ...) expresses the
-   same periodic lattice with new vectors h' = h M, M an integer matrix;
-   applied to the reference box, the same M keeps every image's reference
-   offset.  Called at every reneighboring and, for triclinic boxes, every
-   step (post_integrate), so that between two calls the box deforms by far
-   less than half a period and M is h_last^-1 h_now rounded.
+   the reference box follows the basis of the current one through flips
+   (NOSPD::ReferenceBox::follow).  Called at every reneighboring and, for
+   triclinic boxes, every step (post_integrate).
 ------------------------------------------------------------------------- */
 
 void FixNospdBonds::follow_box()
 {
-  auto matrix = [](const double *v) {
-    NOSPD::Mat3 m;
-    m << v[0], v[5], v[4], 0.0, v[1], v[3], 0.0, 0.0, v[2];
-    return m;
-  };
-  const double *h = domain->h;
-  if (!ref_box_set) {
-    for (int k = 0; k < 6; k++) ref_h[k] = last_h[k] = h[k];
-    ref_box_set = 1;
-    return;
-  }
-  const NOSPD::Mat3 A = matrix(last_h).inverse() * matrix(h);
-  const NOSPD::Mat3 M = A.array().round().matrix();
-  // a flip (fix deform) changes the basis by whole box vectors and leaves
-  // every tilt within half a box length; a large one-shot change (change_box
-  // xy final 0.6*lx remap) is a deformation, whatever M rounds to
-  const bool flipped = !M.isIdentity(0.0) && (A - M).cwiseAbs().maxCoeff() < 0.1 &&
-      std::abs(h[5]) <= 0.500001 * h[0] && std::abs(h[4]) <= 0.500001 * h[0] &&
-      std::abs(h[3]) <= 0.500001 * h[1];
-  if (flipped) {
-    const NOSPD::Mat3 R = matrix(ref_h) * M;
-    const double r[6] = {R(0, 0), R(1, 1), R(2, 2), R(1, 2), R(0, 2), R(0, 1)};
-    for (int k = 0; k < 6; k++) ref_h[k] = r[k];
-  }
-  for (int k = 0; k < 6; k++) last_h[k] = h[k];
+  ref_box.follow(domain->h);
 }
-
 /* ---------------------------------------------------------------------- */
 
 void FixNospdBonds::reference_bond(const double *x0i, const double *x0j, double *xi) const
 {
-  for (int k = 0; k < 3; k++) xi[k] = x0j[k] - x0i[k];
-  const double *r = ref_box_set ? ref_h : domain->h;
-  // as Domain::minimum_image, in the reference box; each branch adds the
-  // negative of what the mirrored branch adds, so xi(j, i) = -xi(i, j)
-  if (domain->zperiodic)
-    while (std::abs(xi[2]) > 0.5 * r[2]) {
-      const double s = xi[2] < 0.0 ? 1.0 : -1.0;
-      xi[2] += s * r[2];
-      xi[1] += s * r[3];
-      xi[0] += s * r[4];
-    }
-  if (domain->yperiodic)
-    while (std::abs(xi[1]) > 0.5 * r[1]) {
-      const double s = xi[1] < 0.0 ? 1.0 : -1.0;
-      xi[1] += s * r[1];
-      xi[0] += s * r[5];
-    }
-  if (domain->xperiodic)
-    while (std::abs(xi[0]) > 0.5 * r[0]) xi[0] += (xi[0] < 0.0 ? 1.0 : -1.0) * r[0];
+  const int periodic[3] = {domain->xperiodic, domain->yperiodic, domain->zperiodic};
+  ref_box.bond(x0i, x0j, periodic, domain->h, xi);
 }

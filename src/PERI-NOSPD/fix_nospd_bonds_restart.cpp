@@ -31,8 +31,8 @@ void FixNospdBonds::write_restart(FILE *fp)
 {
   // list[0] is `first` plus RESTART_V3 (V2 files hold seven values, older six)
   std::vector<double> list = {(double) (first + RESTART_V3), (double) maxpartner,
-                              (double) ref_box_set, ref_h[0], ref_h[1], ref_h[2],
-                              (double) nbonds_vanished, ref_h[3], ref_h[4], ref_h[5],
+                              (double) ref_box.set, ref_box.ref[0], ref_box.ref[1], ref_box.ref[2],
+                              (double) nbonds_vanished, ref_box.ref[3], ref_box.ref[4], ref_box.ref[5],
                               (double) built_periodic, (double) style_kind,
                               (double) family_horizon.size(), (double) history_law.size()};
   list.insert(list.end(), family_horizon.begin(), family_horizon.end());
@@ -53,13 +53,13 @@ void FixNospdBonds::restart(char *buf)
   first = head % RESTART_V2;
   if (head >= RESTART_V2) nbonds_vanished = static_cast<bigint>(list[6]);
   maxpartner = static_cast<int>(list[1]);
-  ref_box_set = static_cast<int>(list[2]);
-  for (int k = 0; k < 3; k++) ref_h[k] = list[3 + k];
+  ref_box.set = list[2] != 0.0;
+  for (int k = 0; k < 3; k++) ref_box.ref[k] = list[3 + k];
   // older files: the reference tilts are unknown, take the box's
-  for (int k = 3; k < 6; k++) ref_h[k] = domain->h[k];
-  for (int k = 0; k < 6; k++) last_h[k] = domain->h[k];
+  for (int k = 3; k < 6; k++) ref_box.ref[k] = domain->h[k];
+  for (int k = 0; k < 6; k++) ref_box.last[k] = domain->h[k];
   if (head >= RESTART_V3) {
-    for (int k = 3; k < 6; k++) ref_h[k] = list[4 + k];
+    for (int k = 3; k < 6; k++) ref_box.ref[k] = list[4 + k];
     built_periodic = static_cast<int>(list[10]);
     restart_kind = static_cast<int>(list[11]);
     const int nh = static_cast<int>(list[12]), nl = static_cast<int>(list[13]);

@@ -252,7 +252,7 @@ std::string FixNospdBonds::user_law_cause(const std::string &law) const
 
 void FixNospdBonds::post_integrate()
 {
-  if (ref_box_set && domain->triclinic) follow_box();    // before a flip at this step's exchange
+  if (ref_box.set && domain->triclinic) follow_box();    // before a flip at this step's exchange
   const int nlocal = atom->nlocal;
   if (nbond_atoms != nlocal) return;    // the bond arrays are being rebuilt
   double **x = atom->x, **v = atom->v;
