@@ -16,7 +16,6 @@
 #include "neighbor.h"
 #include "update.h"
 
-
 #include <algorithm>
 #include <array>
 #include <cmath>

@@ -12,7 +12,6 @@
 #include "error.h"
 #include "neigh_list.h"
 
-
 #include <vector>
 
 using namespace LAMMPS_NS;

@@ -13,7 +13,6 @@
 #include "thermo.h"
 #include "update.h"
 
-
 #include <algorithm>
 #include <cmath>
 #include <utility>

@@ -13,9 +13,7 @@
 #include "nospd_damage_criteria.h"
 #include "nospd_input.h"
 
-
 #include <cstring>
-
 
 using namespace LAMMPS_NS;
 using NOSPD::Mat3;

@@ -15,7 +15,6 @@
 
 #include <cmath>
 
-
 using namespace LAMMPS_NS;
 using NOSPD::Mat3;
 

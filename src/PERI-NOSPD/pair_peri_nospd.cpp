@@ -17,7 +17,6 @@
 #include "nospd_bond_sums.h"
 #include "nospd_simd.h"
 
-
 using namespace LAMMPS_NS;
 using NOSPD::Law;
 using NOSPD::Mat3;
@@ -108,7 +107,6 @@ void PairPeriNospd::quadratic_spring(int i, const Mat3 &H, Mat3 &H2, double &e2,
   e2 = 0.0;
   if (energy) e2 = moments[i][0] + moments[i][1] + moments[i][2] - A.cwiseProduct(N2).sum();
 }
-
 
 /* ----------------------------------------------------------------------
    per owned atom: P(F), W(F), and what pass 2 needs of it and its partners:

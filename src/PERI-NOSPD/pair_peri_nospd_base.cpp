@@ -42,7 +42,6 @@ static const char cite_nospd[] =
     " pages =   {151--184}\n"
     "}\n\n";
 
-
 // first value of the settings in a restart file: the layout of what follows
 // (files written before it existed start with the strain law, 0..8); the
 // layout before damaged_leverage (0x4e530002) is read as without that limit,
@@ -51,7 +50,6 @@ static constexpr int RESTART_LAYOUT = 0x4e530004;
 static constexpr int RESTART_LAYOUT_V4 = 0x4e530004;
 static constexpr int RESTART_LAYOUT_V3 = 0x4e530003;
 static constexpr int RESTART_LAYOUT_V2 = 0x4e530002;
-
 
 /* ---------------------------------------------------------------------- */
 
@@ -596,7 +594,6 @@ void PairPeriNospdBase::read_restart(FILE *fp)
 }
 
 /* ---------------------------------------------------------------------- */
-
 
 void PairPeriNospdBase::write_restart_settings(FILE *fp)
 {

@@ -14,7 +14,6 @@
 #include "update.h"
 #include "variable.h"
 
-
 #include <cmath>
 
 using namespace LAMMPS_NS;
@@ -74,7 +73,6 @@ void PairPeriNospdBase::law_failure(int i, const Mat3 &F) const
 /* ----------------------------------------------------------------------
    one UMAT increment of owned atom i from its accepted history
 ------------------------------------------------------------------------- */
-
 
 /* ----------------------------------------------------------------------
    what a UMAT's material point at owned atom i needs besides F

@@ -13,7 +13,6 @@
 #include "fix_nospd_bonds.h"
 #include "force.h"
 
-
 #include <algorithm>
 #include <cstdint>
 #include <cmath>

@@ -38,7 +38,6 @@ static bool parses_as_number(const char *word)
   return end != word && *end == '\0';
 }
 
-
 /* ----------------------------------------------------------------------
    inelastic keywords of a material (doc/pair_peri_nospd.rst):
      yield sigma_y0                      J2 plasticity, initial yield stress
