@@ -215,13 +215,13 @@ double ComputeNospdAtom::zem_indicator(int i) const
   FixNospdBonds *bonds = pair->bonds();
   if (bonds->singular[i]) return 0.0;
   double **x = atom->x;
-  double **x0s = bonds->x0s;
   const Mat3 H = NOSPD::load(bonds->defgrad[i]) - Mat3::Identity();
   double zz = 0.0, xx = 0.0;
   for (int b = bonds->bond_first[i]; b < bonds->bond_first[i + 1]; b++) {
     const int j = bonds->bond_j[b];
     const double w = bonds->bond_w[b];
-    const NOSPD::Vec3 xi(x0s[j][0] - x0s[i][0], x0s[j][1] - x0s[i][1], x0s[j][2] - x0s[i][2]);
+    NOSPD::Vec3 xi;
+    bonds->bond_vector(i, b, xi.data());
     const NOSPD::Vec3 u(x[j][0] - x[i][0] - xi[0], x[j][1] - x[i][1] - xi[1],
                         x[j][2] - x[i][2] - xi[2]);
     NOSPD::Vec3 Hxi = H * xi;

@@ -114,7 +114,6 @@ void ComputeNospdBondLocal::compute_local()
   FixNospdBonds *bonds = pair->bonds();
   const bool plane_stress = pair->plane() == NOSPD::Plane::STRESS;
   double **x = atom->x;
-  double **x0s = bonds->x0s;
   const int *type = atom->type;
   int row = 0;
   for (int i = 0; i < atom->nlocal; i++) {
@@ -142,9 +141,10 @@ void ComputeNospdBondLocal::compute_local()
             r[c++] = atom->tag[j];
             break;
           case STRETCH: {
-            double l0 = 0.0, l = 0.0;
+            double xi[3], l0 = 0.0, l = 0.0;
+            bonds->bond_vector(i, b, xi);
             for (int k = 0; k < 3; k++) {
-              l0 += (x0s[j][k] - x0s[i][k]) * (x0s[j][k] - x0s[i][k]);
+              l0 += xi[k] * xi[k];
               l += (x[j][k] - x[i][k]) * (x[j][k] - x[i][k]);
             }
             r[c++] = std::sqrt(l / l0) - 1.0;

@@ -70,12 +70,11 @@ static int made_by_pair_or_error(LAMMPS *lmp, int narg, char **arg)
 }
 
 FixNospdBonds::FixNospdBonds(LAMMPS *lmp, int narg, char **arg) :
-    FixPeriNeigh(lmp, made_by_pair_or_error(lmp, narg, arg), arg), nbond_atoms(0), bond_version(0), bond_first(nullptr), bond_j(nullptr),
-    bond_slot(nullptr), bond_w(nullptr), bond_pair(nullptr), bond_ghost(nullptr), x0s(nullptr),
+    FixPeriNeigh(lmp, made_by_pair_or_error(lmp, narg, arg), arg), x0s(nullptr),
     kinv(nullptr), kinv2(nullptr), xi_moment(nullptr), u_moment(nullptr), family_size(nullptr),
     singular(nullptr),
     defgrad(nullptr), pk1(nullptr), energy_density(nullptr), nsingular(0), nbonds_total(0),
-    nbonds_broken(0), nbonds_vanished(0), nmax_bonds(0), nmax_first(0), nmax_x0s(0), stale(nullptr),
+    nbonds_broken(0), nbonds_vanished(0), nmax_x0s(0), stale(nullptr),
     all_stale(true), x0s_store(nullptr), own_tag(nullptr), family_type(nullptr)
 {
   if (narg != 3) error->all(FLERR, "Illegal fix {} command: takes no arguments", style);
@@ -141,12 +140,6 @@ FixNospdBonds::~FixNospdBonds()
   } else if (!lmp->update) {
     replaced_boxes.erase(lmp);
   }
-  memory->destroy(bond_first);
-  memory->destroy(bond_j);
-  memory->destroy(bond_slot);
-  memory->destroy(bond_w);
-  memory->destroy(bond_pair);
-  memory->destroy(bond_ghost);
   memory->destroy(x0s_store);
   memory->destroy(kinv);
   memory->destroy(kinv2);
@@ -467,22 +460,9 @@ void FixNospdBonds::build_bond_arrays()
   double **horizon = model.horizon;
   const bool periodic = domain->xperiodic || domain->yperiodic || domain->zperiodic;
 
-  if (nlocal + 1 > nmax_first) {
-    nmax_first = atom->nmax + 1;
-    memory->destroy(bond_first);
-    memory->create(bond_first, nmax_first, "nospd/bonds:bond_first");
-  }
   bigint ntot = 0;
   for (int i = 0; i < nlocal; i++) ntot += npartner[i];
-  if (ntot > nmax_bonds) {
-    nmax_bonds = (int) (1.02 * ntot) + 16;
-    memory->destroy(bond_j);
-    memory->destroy(bond_slot);
-    memory->destroy(bond_w);
-    memory->create(bond_j, nmax_bonds, "nospd/bonds:bond_j");
-    memory->create(bond_slot, nmax_bonds, "nospd/bonds:bond_slot");
-    memory->create(bond_w, nmax_bonds, "nospd/bonds:bond_w");
-  }
+  fam.reserve(atom->nmax, ntot);
 
   // in a periodic box, a bond's ends must sit in matching images: along a
   // periodic box vector its displacement Y - xi stays below half of it (a
@@ -498,9 +478,8 @@ void FixNospdBonds::build_bond_arrays()
   int bad_i = -1, bad_j = -1;
 
   std::vector<MissingPartner> missing;
-  int b = 0;
   for (int i = 0; i < nlocal; i++) {
-    bond_first[i] = b;
+    fam.open(i);
     for (int n = 0; n < npartner[i]; n++) {
       const tagint t = partner[i][n];
       if (t == 0) continue;    // broken
@@ -523,15 +502,10 @@ void FixNospdBonds::build_bond_arrays()
         for (int k = 0; k < 3; k++)
           if (pdim[k] && std::abs(lam[k]) > 0.5) bad_i = i, bad_j = j;
       }
-      bond_j[b] = j;
-      bond_slot[b] = n;
-      bond_w[b] = weight(r, horizon[type[i]][type[j]]) * vfrac[j];
-      b++;
+      fam.add(j, n, weight(r, horizon[type[i]][type[j]]) * vfrac[j]);
     }
   }
-  bond_first[nlocal] = b;
-  nbond_atoms = nlocal;
-  bond_version++;
+  fam.close(nlocal);
   if (bad_i >= 0)
     error->one(FLERR, "Fix {}: the bond of atoms {} and {} is displaced by half a box length "
                "(its ends are {:.6g} apart, {:.6g} in the reference): the body's displacement "
@@ -548,7 +522,7 @@ void FixNospdBonds::build_bond_arrays()
   int nmissing = missing.size(), anymissing = 0;
   MPI_Allreduce(&nmissing, &anymissing, 1, MPI_INT, MPI_SUM, world);
   if (anymissing) resolve_missing(missing);
-  if (pair_order) order_for_pairs();
+  if (pair_order) fam.order_for_pairs();
 }
 
 /* ----------------------------------------------------------------------
@@ -561,66 +535,6 @@ void FixNospdBonds::build_bond_arrays()
 int FixNospdBonds::partner_index(tagint t) const
 {
   return t > atom->map_tag_max ? -1 : atom->map(t);
-}
-
-/* ----------------------------------------------------------------------
-   pair order: each point's bonds to owned points j < i first, then to
-   owned j > i, then to ghosts, each group in the partner order.  The pass
-   that visits pairs once takes bond i-j (j > i) for both ends and skips
-   it at j, so it needs every such bond in both lists: checked here by
-   summing a hash of (i, j) over the first group and over the second (the
-   same sums, mod 2^64, exactly when the owned pairs are symmetric; the
-   damage fix breaks bonds at both ends, an asymmetric list would be a
-   bug).  Without symmetry the pass falls back to visiting bonds per end.
-------------------------------------------------------------------------- */
-
-static inline uint64_t pair_hash(uint64_t lo, uint64_t hi)
-{
-  uint64_t z = (lo << 32 | hi) + 0x9e3779b97f4a7c15ULL;    // splitmix64
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-  return z ^ (z >> 31);
-}
-
-void FixNospdBonds::order_for_pairs()
-{
-  const int nlocal = atom->nlocal;
-  if (nlocal > nmax_pair) {
-    nmax_pair = atom->nmax;
-    memory->destroy(bond_pair);
-    memory->destroy(bond_ghost);
-    memory->create(bond_pair, nmax_pair, "nospd/bonds:bond_pair");
-    memory->create(bond_ghost, nmax_pair, "nospd/bonds:bond_ghost");
-  }
-  uint64_t below = 0, above = 0;
-  std::vector<int> js, slots, group;
-  std::vector<double> ws;
-  for (int i = 0; i < nlocal; i++) {
-    const int from = bond_first[i], to = bond_first[i + 1];
-    js.assign(bond_j + from, bond_j + to);
-    slots.assign(bond_slot + from, bond_slot + to);
-    ws.assign(bond_w + from, bond_w + to);
-    // 0: owned j < i; 1: owned j > i; 2: ghosts (and a bond to itself)
-    group.resize(to - from);
-    int count[3] = {0, 0, 0};
-    for (int k = 0; k < to - from; k++) {
-      const int j = js[k];
-      group[k] = (j >= nlocal || j == i) ? 2 : (j < i ? 0 : 1);
-      count[group[k]]++;
-    }
-    int next[3] = {from, from + count[0], from + count[0] + count[1]};
-    bond_pair[i] = next[1];
-    bond_ghost[i] = next[2];
-    for (int k = 0; k < to - from; k++) {
-      const int b = next[group[k]]++;
-      bond_j[b] = js[k];
-      bond_slot[b] = slots[k];
-      bond_w[b] = ws[k];
-      if (group[k] == 0) below += pair_hash(js[k], i);
-      if (group[k] == 1) above += pair_hash(i, js[k]);
-    }
-  }
-  pairs_symmetric = (below == above);
 }
 
 /* ---------------------------------------------------------------------- */
@@ -661,54 +575,11 @@ void FixNospdBonds::bonds_changed()
   // breaking only removes bonds, and local indices hold until the next
   // reneighboring: drop the broken entries in place rather than look every
   // partner up again (same arrays, same order, as a rebuild would give)
-  if (nbond_atoms == atom->nlocal) compact_bond_arrays();
+  if (nbond_atoms == atom->nlocal)
+    fam.compact([this](int i, int slot) { return partner[i][slot] == 0; });
   else build_bond_arrays();
   update_shape_tensors();
   count_bonds();
-}
-
-/* ----------------------------------------------------------------------
-   remove the entries whose partner slot has been broken since the arrays
-   were built (partner tag set to 0)
-------------------------------------------------------------------------- */
-
-void FixNospdBonds::compact_bond_arrays()
-{
-  const int nlocal = atom->nlocal;
-  // in pair order the groups keep their order: move their offsets along
-  // and check the symmetry of what is left (see order_for_pairs())
-  uint64_t below = 0, above = 0;
-  int b = 0;
-  for (int i = 0; i < nlocal; i++) {
-    const int start = bond_first[i], end = bond_first[i + 1];
-    const int pair_from = pair_order ? bond_pair[i] : end;
-    const int ghost_from = pair_order ? bond_ghost[i] : end;
-    bond_first[i] = b;
-    auto keep = [&](int from, int to, int group) {
-      for (int k = from; k < to; k++) {
-        if (partner[i][bond_slot[k]] == 0) continue;
-        const int j = bond_j[k];
-        bond_j[b] = j;
-        bond_slot[b] = bond_slot[k];
-        bond_w[b] = bond_w[k];
-        b++;
-        if (group == 0) below += pair_hash(j, i);
-        if (group == 1) above += pair_hash(i, j);
-      }
-    };
-    if (!pair_order) {
-      keep(start, end, 2);
-      continue;
-    }
-    keep(start, pair_from, 0);
-    bond_pair[i] = b;
-    keep(pair_from, ghost_from, 1);
-    bond_ghost[i] = b;
-    keep(ghost_from, end, 2);
-  }
-  bond_first[nlocal] = b;
-  bond_version++;
-  if (pair_order) pairs_symmetric = (below == above);
 }
 
 /* ---------------------------------------------------------------------- */
@@ -731,9 +602,7 @@ double FixNospdBonds::memory_usage()
   bytes += nmax * maxpartner * sizeof(tagint);
   // family_size, singular, stale, family_type; own_tag
   bytes += nmax * (3 * 9 + 2 * 3 + 1) * sizeof(double) + nmax * (4 * sizeof(int) + sizeof(tagint));
-  bytes += (double) nmax_first * sizeof(int);
-  bytes += (double) nmax_bonds * (2 * sizeof(int) + sizeof(double));
-  bytes += (double) nmax_pair * 2 * sizeof(int);
+  bytes += fam.bytes();
   bytes += (double) nmax_x0s * 3 * sizeof(double);
   bytes += nmax * 2.0 * nhistory * sizeof(double);
   bytes += nmax * (double) quadratic_record() * sizeof(double);

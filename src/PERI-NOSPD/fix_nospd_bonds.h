@@ -12,9 +12,11 @@ FixStyle(PERI_NEIGH/NOSPD,FixNospdBonds);
 #define LMP_FIX_NOSPD_BONDS_H
 
 #include "fix_peri_neigh.h"
+#include "nospd_family_store.h"
 #include "nospd_history_store.h"
 #include "nospd_reference_box.h"
 #include "nospd_stabilization.h"
+#include "nospd_stable_step.h"
 
 #include "nospd_bond_sums.h"
 
@@ -50,11 +52,8 @@ struct NospdBondModel {
   // stabilization's bond stiffness
   const double *stress_norm = nullptr;
   const double *spring = nullptr;
-  // how the spring acts per bond: NONE; PER_WEIGHT (Silling: w s z);
-  // PER_LENGTH (hourglass: w s/|xi| along the bond); WAN (w S z with
-  // |S| <= |C| |K^-1|, spring unused)
-  enum Spring { NONE, PER_WEIGHT, PER_LENGTH, WAN };
-  int spring_kind = NONE;
+  // how the spring acts per bond (nospd_stable_step.h)
+  NOSPD::SpringKind spring_kind = NOSPD::SpringKind::NONE;
   // the bond-associated style's own rows in place of the classical force's:
   // fills R_i for every owned atom (sum over points of the norms of its
   // force density's change per unit displacement, linearized at the
@@ -124,18 +123,14 @@ class FixNospdBonds : public FixPeriNeigh {
   // law itself, unless the time step was past the stable estimate
   std::string user_law_cause(const std::string &law) const;
   // the smallest of those estimates over the types (0: none)
-  double smallest_stable_timestep() const;
+  double smallest_stable_timestep() const { return dt_est.smallest(); }
   // the stable time step estimate of a type at the last run setup (0: none)
-  double stable_timestep(int type) const
-  {
-    return (type < (int) dt_reported.size() && dt_reported[type] < 1.0e300) ? dt_reported[type]
-                                                                            : 0.0;
-  }
+  double stable_timestep(int type) const { return dt_est.of(type); }
   // its parts: the bond-based body's, and the bound on the correspondence
   // stiffness (0: none; the estimate takes the smaller of the first and
   // bound_margin times the second)
-  double bond_based_timestep(int type) const { return part_of(dt_bond, type); }
-  double stiffness_bound_timestep(int type) const { return part_of(dt_bound, type); }
+  double bond_based_timestep(int type) const { return dt_est.bond_part(type); }
+  double stiffness_bound_timestep(int type) const { return dt_est.bound_part(type); }
   const NospdBondModel &get_model() const { return model; }
 
   // Pass 1: F = I + (sum_j w U (x) xi) K^-1 for every owned atom.  When
@@ -160,7 +155,7 @@ class FixNospdBonds : public FixPeriNeigh {
   void vote_pair_order(bool usable) { pair_votes[usable ? 1 : 0]++; }
   // the bond lists are in pair order and the owned pairs are known to be
   // symmetric (each bond i-j owned on both ends is in both lists)
-  bool pairs_ordered() const { return pair_order && pairs_symmetric; }
+  bool pairs_ordered() const { return fam.symmetric(); }
 
   // Breaking bonds (damage fix): zero the partner slot, mark K^-1 stale.
   // Call bonds_changed() once after a batch of breaks on all ranks.
@@ -214,19 +209,26 @@ class FixNospdBonds : public FixPeriNeigh {
   void reference_bond(const double *x0i, const double *x0j, double *xi) const;
 
   // ---- state read by pair styles, computes and the damage fix ----
-  int nbond_atoms;        // owned atoms covered by the CSR arrays (-1: atoms
-                          // moved, added or deleted since they were built)
+  // the bond lists (nospd_family_store.h), owned here, under the names
+  // their readers use
+  NOSPD::FamilyStore fam;
+  int &nbond_atoms = fam.natoms;    // owned atoms covered by the lists (-1:
+                                    // atoms moved, added or deleted since)
   bool bond_arrays_current() const;
-  int bond_version;       // incremented whenever the CSR arrays are rebuilt
-  int *bond_first;        // [nlocal+1] offsets into bond_j/bond_w
-  int *bond_j;            // local index of the partner (closest image)
-  int *bond_slot;         // partner slot in FixPeriNeigh::partner[i]
-  double *bond_w;         // omega(|xi|) * V_j
+  int &bond_version = fam.version;    // changes whenever the lists change
+  int *&bond_first = fam.first;       // [nlocal+1] offsets into bond_j/bond_w
+  int *&bond_j = fam.j;               // local index of the partner (closest image)
+  int *&bond_slot = fam.slot;         // partner slot in FixPeriNeigh::partner[i]
+  double *&bond_w = fam.w;            // omega(|xi|) * V_j
   // in pair order, point i's bonds are [bond_first[i], bond_pair[i]) to
   // owned points j < i, [bond_pair[i], bond_ghost[i]) to owned points j > i,
   // then [bond_ghost[i], bond_first[i+1]) to ghosts
-  int *bond_pair;         // [nlocal], only in pair order
-  int *bond_ghost;
+  int *&bond_pair = fam.pair;    // [nlocal], only in pair order
+  int *&bond_ghost = fam.ghost;
+  // the reference bond of point i's bond b (reference_bond of the two x0):
+  // the bond geometry of every reader outside the force passes, which
+  // take the same vector from x0s (to rounding)
+  void bond_vector(int i, int b, double *xi) const;
   double **x0s;           // x0 in the periodic image of x, owned + ghost
   double **kinv;          // K^-1, 9 per atom, row-major; zero if singular
   double **kinv2;         // the quadratic fit's K2^-1 and its flag (model.quadratic
@@ -262,7 +264,7 @@ class FixNospdBonds : public FixPeriNeigh {
 
  protected:
   NospdBondModel model;
-  int nmax_bonds, nmax_first, nmax_x0s;
+  int nmax_x0s;
   int *stale;               // [nmax] K^-1 to recompute
   bool all_stale;
   void layout_history(int n_atom, int n_bond);
@@ -314,23 +316,13 @@ class FixNospdBonds : public FixPeriNeigh {
   bool volumes_warned = false;    // 2D thickness or 3D volumes: warned once
   void check_min_dmax();
   double dmax_warned = -1.0;          // the min_modify dmax last warned about
-  std::vector<double> dt_reported;    // per type, the estimate last logged
-  std::vector<double> dt_bond, dt_bound;    // its two parts (BIG: none)
-  static double part_of(const std::vector<double> &v, int type)
-  {
-    return (type < (int) v.size() && v[type] < 1.0e300) ? v[type] : 0.0;
-  }
-  double dt_checked = -1.0;           // the time step last checked against it
+  NOSPD::StableStep dt_est;    // the estimate of the last setup (nospd_stable_step.h)
   tagint *own_tag;    // the atom's ID when its partners' IDs were last written
   int *family_type;   // the atom's type at the last setup (0: no family)
   void check_family_types();
   bool count_bonds_pending = false;
-  void compact_bond_arrays();
   int pair_votes[2] = {0, 0};    // against, for, since the last setup
-  bool pair_order = false;       // bond lists in pair order
-  bool pairs_symmetric = false;
-  int nmax_pair = 0;
-  void order_for_pairs();
+  bool &pair_order = fam.pair_order;    // bond lists in pair order
   void update_shape_tensors();
   void quadratic_fit_of(int i);
   void count_bonds();

@@ -131,3 +131,8 @@ void FixNospdBonds::reference_bond(const double *x0i, const double *x0j, double 
   const int periodic[3] = {domain->xperiodic, domain->yperiodic, domain->zperiodic};
   ref_box.bond(x0i, x0j, periodic, domain->h, xi);
 }
+
+void FixNospdBonds::bond_vector(int i, int b, double *xi) const
+{
+  reference_bond(atom->x0[i], atom->x0[bond_j[b]], xi);
+}

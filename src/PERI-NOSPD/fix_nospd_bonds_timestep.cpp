@@ -25,22 +25,12 @@
 
 using namespace LAMMPS_NS;
 
-static constexpr double BIG = 1.0e300;
-
 /* ----------------------------------------------------------------------
-   Stable time step estimate per type, the smaller of two:
-   - velocity Verlet's for the bond-based body with the same P-wave modulus
-     (Silling and Askari 2005, Comput. Struct. 83:1526, eq. 31):
-     dt_i = sqrt(2 rho_i / sum_j V_j c / |xi_ij|);
-   - a multiple (model.bound_margin) of the bound on the correspondence
-     stiffness below, which sees K^-1.  The bound is sufficient (it bounds
-     the linearized operator's largest eigenvalue from above); in every body
-     measured the classical style's runs stayed stable to 2.4-4 times it,
-     and twice it lies at or just below the bond-based estimate where
-     families are whole; the bond-associated style's to 1.5-3.2 times it,
-     hence 1.25 there (doc: "Stable time step").
-   Both are the smallest over the points of each type.  Logged when they
-   change; a warning when the time step exceeds the estimate.
+   Stable time step estimate per type (NOSPD::StableStep): the bond-based
+   value and a multiple (model.bound_margin) of the bound on the
+   correspondence stiffness below, which sees K^-1.  The bound is
+   sufficient; the margin is its measured slack (doc: "Stable time step").
+   Logged when it changes; a warning when the time step exceeds it.
 ------------------------------------------------------------------------- */
 
 void FixNospdBonds::report_stable_timestep()
@@ -50,7 +40,7 @@ void FixNospdBonds::report_stable_timestep()
   const int ntypes = atom->ntypes, nlocal = atom->nlocal;
   const int *type = atom->type;
   const double *vfrac = atom->vfrac, *rho = atom->rmass;
-  std::vector<double> dtmin(ntypes + 1, BIG), dtbound(ntypes + 1, BIG);
+  std::vector<double> dtmin(ntypes + 1, NOSPD::StableStep::NONE), dtbound(ntypes + 1, NOSPD::StableStep::NONE);
   for (int i = 0; i < nlocal; i++) {
     const int it = type[i];
     if (!(c[it] > 0.0)) continue;
@@ -61,40 +51,34 @@ void FixNospdBonds::report_stable_timestep()
                    dz = x0s[j][2] - x0s[i][2];
       s += vfrac[j] * std::max(c[it], c[type[j]]) / sqrt(dx * dx + dy * dy + dz * dz);
     }
-    if (s > 0.0) dtmin[it] = std::min(dtmin[it], sqrt(2.0 * rho[i] / s));
+    dtmin[it] = std::min(dtmin[it], NOSPD::StableStep::bond_based(rho[i], s));
   }
   bound_stable_timesteps(dtbound);
-  dt_bond.resize(ntypes + 1);
-  dt_bound.resize(ntypes + 1);
-  MPI_Allreduce(dtmin.data(), dt_bond.data(), ntypes + 1, MPI_DOUBLE, MPI_MIN, world);
-  MPI_Allreduce(dtbound.data(), dt_bound.data(), ntypes + 1, MPI_DOUBLE, MPI_MIN, world);
-  std::vector<double> dtall(ntypes + 1);
-  for (int t = 0; t <= ntypes; t++)
-    dtall[t] = dt_bound[t] < BIG ? std::min(dt_bond[t], model.bound_margin * dt_bound[t])
-                                 : dt_bond[t];
-  const bool changed = (dt_reported != dtall);
-  if (!changed && update->dt == dt_checked) return;
-  dt_reported = dtall;
-  dt_checked = update->dt;
+  std::vector<double> bond_all(ntypes + 1), bound_all(ntypes + 1);
+  MPI_Allreduce(dtmin.data(), bond_all.data(), ntypes + 1, MPI_DOUBLE, MPI_MIN, world);
+  MPI_Allreduce(dtbound.data(), bound_all.data(), ntypes + 1, MPI_DOUBLE, MPI_MIN, world);
+  const bool changed = dt_est.take(bond_all, bound_all, model.bound_margin);
+  if (!changed && update->dt == dt_est.checked) return;
+  dt_est.checked = update->dt;
   if (comm->me != 0) return;
   std::string line = "PERI-NOSPD stable time step estimate:";
-  int worst = 0;
   for (int t = 1; t <= ntypes; t++) {
-    if (dtall[t] >= BIG) continue;
+    if (dt_est.of(t) == 0.0) continue;
     // the estimate is the smaller of its two parts: say how it is made
-    line += fmt::format(" type {} {:.4g}", t, dtall[t]);
-    line += dt_bound[t] < BIG
-        ? fmt::format(" = min(bond-based {:.4g}, {:g} x stiffness bound {:.4g})", dt_bond[t],
-                      model.bound_margin, dt_bound[t])
+    line += fmt::format(" type {} {:.4g}", t, dt_est.of(t));
+    line += dt_est.bound_part(t) > 0.0
+        ? fmt::format(" = min(bond-based {:.4g}, {:g} x stiffness bound {:.4g})",
+                      dt_est.bond_part(t), model.bound_margin, dt_est.bound_part(t))
         : fmt::format(" (bond-based)");
-    if (!worst || dtall[t] < dtall[worst]) worst = t;
   }
+  const int worst = dt_est.smallest_type();
   if (!worst) return;
+  const double est = dt_est.of(worst);
   if (changed) utils::logmesg(lmp, line + "\n");
-  if (update->dt > dtall[worst])
+  if (update->dt > est)
     error->warning(FLERR, "Fix {}: timestep {:.4g} exceeds the stable estimate {:.4g} of atom "
                    "type {}: the run may blow up; use timestep {:.3g} or less",
-                   style, update->dt, dtall[worst], worst, 0.8 * dtall[worst]);
+                   style, update->dt, est, worst, 0.8 * est);
 }
 
 /* ----------------------------------------------------------------------
@@ -117,22 +101,6 @@ void FixNospdBonds::report_stable_timestep()
    NOSPD::family_row_bounds of each pattern); its stabilization's springs
    are the classical ones, on the family's H.
 ------------------------------------------------------------------------- */
-
-namespace {
-// the largest eigenvalue of the symmetric K^-1 (in 2D of its in-plane
-// block: the out-of-plane entry is a placeholder)
-double spectral_norm(const NOSPD::Mat3 &Kinv, bool plane)
-{
-  if (plane) {
-    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(Kinv.topLeftCorner<2, 2>(),
-                                                            Eigen::EigenvaluesOnly);
-    return es.eigenvalues().cwiseAbs().maxCoeff();
-  }
-  Eigen::SelfAdjointEigenSolver<NOSPD::Mat3> es;
-  es.computeDirect(Kinv, Eigen::EigenvaluesOnly);
-  return es.eigenvalues().cwiseAbs().maxCoeff();
-}
-}    // namespace
 
 void FixNospdBonds::bound_stable_timesteps(std::vector<double> &dtmin)
 {
@@ -163,7 +131,7 @@ void FixNospdBonds::bound_stable_timesteps(std::vector<double> &dtmin)
     }
     mlen[i] = (Ki * m).norm();
     op_point[2 * i] = d + mlen[i];
-    op_point[2 * i + 1] = spectral_norm(Ki, plane);
+    op_point[2 * i + 1] = NOSPD::spectral_norm(Ki, plane);
   }
   comm_mode = 1;
   comm->forward_comm(this);
@@ -171,14 +139,8 @@ void FixNospdBonds::bound_stable_timesteps(std::vector<double> &dtmin)
 
   // the stabilization's stiffness of bond (k, l) at end k; none where K_k is singular
   auto spring = [&](int k, double len) {
-    const double kappa = op_point[2 * k + 1];
-    if (kappa == 0.0) return 0.0;
-    switch (model.spring_kind) {
-      case NospdBondModel::PER_WEIGHT: return model.spring[type[k]];
-      case NospdBondModel::PER_LENGTH: return model.spring[type[k]] / len;
-      case NospdBondModel::WAN: return cn[type[k]] * kappa;
-      default: return 0.0;
-    }
+    const double s = model.spring ? model.spring[type[k]] : 0.0;
+    return NOSPD::spring_stiffness(model.spring_kind, s, cn[type[k]], op_point[2 * k + 1], len);
   };
   // the bond-associated style bounds its own force (its families' rows)
   std::vector<double> own_rows;
@@ -197,19 +159,11 @@ void FixNospdBonds::bound_stable_timesteps(std::vector<double> &dtmin)
       r += bond_w[b] * ((classical ? cn[type[j]] * kj * len * Dj : 0.0) +
                         spring(i, len) * (2.0 + len * Di) + spring(j, len) * (2.0 + len * Dj));
     }
-    if (r > 0.0) dtmin[type[i]] = std::min(dtmin[type[i]], 2.0 * sqrt(rho[i] / r));
+    dtmin[type[i]] = std::min(dtmin[type[i]], NOSPD::StableStep::from_row_bound(rho[i], r));
   }
 }
 
 /* the likely cause, for the instability errors of the fix and the pair style */
-
-double FixNospdBonds::smallest_stable_timestep() const
-{
-  double est = 0.0;
-  for (size_t t = 1; t < dt_reported.size(); t++)
-    if (dt_reported[t] < BIG && (est == 0.0 || dt_reported[t] < est)) est = dt_reported[t];
-  return est;
-}
 
 std::string FixNospdBonds::unstable_cause() const
 {

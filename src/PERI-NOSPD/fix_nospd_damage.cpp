@@ -676,7 +676,7 @@ void FixNospdDamage::stretch_cuts(std::vector<std::pair<int, int>> &cut)
           Yx = Y[0];
           Yy = Y[1];
           Yz = Y[2];
-          bonds->reference_bond(x0[i], x0[j], xi);
+          bonds->bond_vector(i, b, xi);
         }
         const double rxi2 = xi[0] * xi[0] + xi[1] * xi[1] + xi[2] * xi[2];
         const double ry2 = Yx * Yx + Yy * Yy + Yz * Yz;
@@ -747,7 +747,9 @@ void FixNospdDamage::apply_precracks()
       const bool i_lo = tag[i] < tag[j];
       const int a = i_lo ? i : j, c = i_lo ? j : i;
       double d[3];
-      bonds->reference_bond(x0[a], x0[c], d);
+      bonds->bond_vector(i, b, d);    // from i: the lower ID's end is a
+      if (!i_lo)
+        for (double &v : d) v = -v;
       const double A[3] = {x0[a][0], x0[a][1], x0[a][2]};
       const double B[3] = {A[0] + d[0], A[1] + d[1], A[2] + d[2]};
       bool hit = crosses(A, B);

@@ -275,10 +275,10 @@ void PairPeriNospdBase::set_stiffness_bound(NospdBondModel &m)
   m.stress_norm = stress_norm.data();
   m.spring = stab_scalar;
   switch (stab) {
-    case Stab::SILLING: m.spring_kind = NospdBondModel::PER_WEIGHT; break;
-    case Stab::HOURGLASS: m.spring_kind = NospdBondModel::PER_LENGTH; break;
-    case Stab::WAN: m.spring_kind = NospdBondModel::WAN; break;
-    default: m.spring_kind = NospdBondModel::NONE;
+    case Stab::SILLING: m.spring_kind = NOSPD::SpringKind::PER_WEIGHT; break;
+    case Stab::HOURGLASS: m.spring_kind = NOSPD::SpringKind::PER_LENGTH; break;
+    case Stab::WAN: m.spring_kind = NOSPD::SpringKind::WAN; break;
+    default: m.spring_kind = NOSPD::SpringKind::NONE;
   }
   m.family_rows = family_row_bound();
   m.bound_margin = bound_margin();

@@ -266,4 +266,64 @@ TEST(BondHistory, AcceptedConfigurationReturnsAcceptedState)
   EXPECT_GT(diff, 1e-6 * tmax);
 }
 
+/* The compact per-bond state of J2 (FamilyPlasticity: 7 values per bond)
+   is a storage of the same law, not another one: on a non-uniform path
+   through yield and unloading, the family evaluated through the material
+   interface (FamilyMaterial on J2Material, the law's whole history per
+   bond) gives the same force states and family means, with isotropic and
+   kinematic hardening, small strain and Hencky (rate-independent: the
+   compact state shares the family's rate, the interface would give each
+   bond its own). */
+void check_compact_is_the_interface(Law law, double Hkin)
+{
+  Family fam(law, HSForm::II);
+  fam.fl.active = true;
+  fam.fl.sigma_y0 = 250e6;
+  fam.fl.H = 1e9;
+  fam.fl.Hkin = Hkin;
+  const J2Material j2(law, Plane::NONE, fam.m, fam.fl, fam.th);
+  FamilyMaterial fm;
+  fm.mat = &j2;
+  fm.pattern = &fam.p;
+  fm.slot_of = fam.slots.data();
+  fm.bond_offset = FamilyMaterial::family_size(j2);
+  fm.bond_stride = j2.history_size();
+  std::vector<double> gn(fm.bond_offset + fm.bond_stride * fam.p.n, 0.0), g1, t;
+  StateScratch scratch;
+  StateOutput out;
+
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<double> R(-1.0, 1.0);
+  double eqps = 0.0;
+  for (int k = 1; k <= 14; k++) {
+    std::vector<double> U = fam.affine(path_F(k));
+    for (double &u : U) u += 3e-4 * R(rng);
+    ASSERT_TRUE(fam.eval(U));
+    g1 = gn;
+    fm.hn = gn.data();
+    fm.h1 = g1.data();
+    t.assign(3 * fam.p.n, 0.0);
+    ASSERT_TRUE(evaluate_family<3>(fam.p, fam.form, law, Plane::NONE, fam.m, LinearLaw(), true,
+                                   U.data(), t.data(), scratch, out, &fm));
+    fm.finish();
+    double tmax = 0.0, diff = 0.0;
+    for (size_t q = 0; q < t.size(); q++) {
+      tmax = std::max(tmax, std::abs(fam.t[q]));
+      diff = std::max(diff, std::abs(t[q] - fam.t[q]));
+    }
+    EXPECT_LT(diff, 1e-12 * tmax) << "increment " << k;
+    EXPECT_NEAR(g1[Hist::EQPS], fam.h1[Hist::EQPS], 1e-12 * std::max(fam.h1[Hist::EQPS], 1e-3));
+    EXPECT_NEAR(g1[Hist::WORK], fam.h1[Hist::WORK], 1e-12 * std::max(fam.h1[Hist::WORK], 1.0));
+    for (int c = 0; c < 6; c++)
+      EXPECT_NEAR(g1[Hist::PLASTIC + c], fam.h1[Hist::PLASTIC + c], 1e-12 * std::max(eqps, 1e-3));
+    fam.hn = fam.h1;
+    gn = g1;
+    eqps = std::max(eqps, fam.h1[Hist::EQPS]);
+  }
+  EXPECT_GT(eqps, 1e-3);    // well past yield
+}
+
+TEST(BondHistory, CompactJ2StateIsTheInterfaceSmall) { check_compact_is_the_interface(Law::SMALL, 2e9); }
+TEST(BondHistory, CompactJ2StateIsTheInterfaceHencky) { check_compact_is_the_interface(Law::HENCKY, 0.0); }
+
 }    // namespace
