@@ -67,12 +67,14 @@ class PairPeriNospdBase : public Pair {
   // built-in inelastic materials (history kept by the bonds fix)
   bool has_history(int itype) const { return inelastic[itype] == POINT_PLASTIC; }
   // a type with history that the bond-associated style runs per bond through
-  // the material interface alone (NOSPD::FamilyMaterial): every one but
-  // J2/Johnson-Cook, whose compact per-bond state (NOSPD::FamilyPlasticity)
-  // keeps 7 values per bond instead of the point's 39
+  // the material interface alone (NOSPD::FamilyMaterial): every law but
+  // J2/Johnson-Cook, whose compact per-bond state (NOSPD::FamilyPlasticity,
+  // the same law: doc pair_peri_nospd_hs) keeps 7 values per bond instead
+  // of the point's 39
   bool bond_material(int itype) const
   {
-    return is_umat(itype) || (has_history(itype) && drucker_prager[itype].active);
+    const NOSPD::Material *m = itype < (int) materials.size() ? materials[itype].get() : nullptr;
+    return m && m->history_size() > 0 && !dynamic_cast<const NOSPD::J2Material *>(m);
   }
   const NOSPD::Material &material_law(int itype) const { return *materials[itype]; }
   // a type whose stress comes from a UMAT (history in UmatHist's layout)
