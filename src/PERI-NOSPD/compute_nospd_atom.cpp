@@ -149,7 +149,7 @@ void ComputeNospdAtom::compute_peratom()
           break;
         case VONMISES: row[c++] = NOSPD::von_mises(sigma); break;
         case ENERGY: row[c++] = bonds->energy_density[i]; break;
-        case ZEM: row[c++] = bonds_current ? zem_indicator(i) : 0.0; break;
+        case ZEM: row[c++] = bonds_current ? bonds->zem_indicator(i) : 0.0; break;
         case SINGULAR: row[c++] = bonds->singular[i]; break;
         default: c = history_columns(i, q, row, c); break;
       }
@@ -201,35 +201,6 @@ int ComputeNospdAtom::history_columns(int i, int q, double *row, int c) const
     }
   }
   return c + n;
-}
-
-/* ----------------------------------------------------------------------
-   |z| = sqrt( sum_j w |Y - F xi|^2 / sum_j w |xi|^2 ): the part of the
-   deformation state that F does not describe, relative to the bond
-   lengths.  Zero for any homogeneous deformation; large for zero-energy
-   (hourglass) modes.
-------------------------------------------------------------------------- */
-
-double ComputeNospdAtom::zem_indicator(int i) const
-{
-  FixNospdBonds *bonds = pair->bonds();
-  if (bonds->singular[i]) return 0.0;
-  double **x = atom->x;
-  const Mat3 H = NOSPD::load(bonds->defgrad[i]) - Mat3::Identity();
-  double zz = 0.0, xx = 0.0;
-  for (int b = bonds->bond_first[i]; b < bonds->bond_first[i + 1]; b++) {
-    const int j = bonds->bond_j[b];
-    const double w = bonds->bond_w[b];
-    NOSPD::Vec3 xi;
-    bonds->bond_vector(i, b, xi.data());
-    const NOSPD::Vec3 u(x[j][0] - x[i][0] - xi[0], x[j][1] - x[i][1] - xi[1],
-                        x[j][2] - x[i][2] - xi[2]);
-    NOSPD::Vec3 Hxi = H * xi;
-    if (domain->dimension == 2) Hxi[2] = 0.0;    // 2D: F33 (plane stress) is not a bond quantity
-    zz += w * (u - Hxi).squaredNorm();
-    xx += w * xi.squaredNorm();
-  }
-  return xx > 0.0 ? std::sqrt(zz / xx) : 0.0;
 }
 
 /* ---------------------------------------------------------------------- */

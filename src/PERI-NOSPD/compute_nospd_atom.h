@@ -44,7 +44,6 @@ class ComputeNospdAtom : public Compute {
   class PairPeriNospdBase *pair;
 
   void find_pair();
-  double zem_indicator(int i) const;
   int history_columns(int i, int q, double *row, int c) const;
 };
 

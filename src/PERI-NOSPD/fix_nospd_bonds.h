@@ -22,6 +22,7 @@ FixStyle(PERI_NEIGH/NOSPD,FixNospdBonds);
 
 #include <functional>
 #include <limits>
+#include <string>
 #include <vector>
 
 namespace LAMMPS_NS {
@@ -65,6 +66,9 @@ struct NospdBondModel {
   double bound_margin = 2.0;
   // keep each family's quadratic fit operator (kinv2): stabilization/fit quadratic
   bool quadratic = false;
+  // the zero-energy-mode control as the user wrote it (for the warning of
+  // check_zero_energy_modes); empty: the style has no zero-energy modes
+  std::string zem_control;
 };
 
 /* Owner of the bond families and of the reference and deformation state.
@@ -91,7 +95,7 @@ class FixNospdBonds : public FixPeriNeigh {
   void post_integrate() override;
   void post_neighbor() override;
   void min_post_neighbor() override { post_neighbor(); }
-  void end_of_step() override { commit_history(); }
+  void end_of_step() override;
   void post_run() override;
   double compute_vector(int) override;
 
@@ -199,6 +203,16 @@ class FixNospdBonds : public FixPeriNeigh {
   // the type an atom had at the last setup, under whose law its history was
   // written (0: created since, no family)
   int type_of_history(int i) const { return family_type[i]; }
+
+  // the zero-energy-mode indicator of owned point i at the last force
+  // evaluation (NOSPD::ZemSum; 0 where K is singular)
+  double zem_indicator(int i) const;
+  // the same after a quadratic fit (NOSPD::QuadraticZemSum; -1: no fit)
+  double zem_quadratic(int i) const;
+  // the threshold of its zem_ratio above which a point counts as held by
+  // no stabilization, and the steps between checks during a run
+  static constexpr double ZEM_RATIO_LIMIT = 0.22;
+  static constexpr int ZEM_CHECK_EVERY = 1000;
 
   // the reference bond from a point at x0i to one at x0j: x0j - x0i imaged
   // in the reference box (the box the families were built in, followed
@@ -315,6 +329,9 @@ class FixNospdBonds : public FixPeriNeigh {
   void check_solid_volumes();
   bool volumes_warned = false;    // 2D thickness or 3D volumes: warned once
   void check_min_dmax();
+  void check_zero_energy_modes();
+  template <class Sum> void add_bond_motion(int i, Sum &sum) const;
+  bool zem_warned = false;    // the zero-energy-mode warning, once per fix
   double dmax_warned = -1.0;          // the min_modify dmax last warned about
   NOSPD::StableStep dt_est;    // the estimate of the last setup (nospd_stable_step.h)
   tagint *own_tag;    // the atom's ID when its partners' IDs were last written

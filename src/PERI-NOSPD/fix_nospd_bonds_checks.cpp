@@ -371,3 +371,111 @@ void FixNospdBonds::check_coincident(int i, int j, double r) const
                     : "e.g. two create_atoms on the same region; remove one with delete_atoms "
                       "overlap");
 }
+
+/* ----------------------------------------------------------------------
+   zero-energy-mode indicator of owned point i (NOSPD::ZemSum), from the F
+   of the last force evaluation and the reference bonds
+------------------------------------------------------------------------- */
+
+// each bond of point i into `sum`: its weight, reference bond and U
+template <class Sum> void FixNospdBonds::add_bond_motion(int i, Sum &sum) const
+{
+  double **x = atom->x;
+  for (int b = bond_first[i]; b < bond_first[i + 1]; b++) {
+    const int j = bond_j[b];
+    NOSPD::Vec3 xi;
+    bond_vector(i, b, xi.data());
+    const NOSPD::Vec3 U(x[j][0] - x[i][0] - xi[0], x[j][1] - x[i][1] - xi[1],
+                        x[j][2] - x[i][2] - xi[2]);
+    sum.add(bond_w[b], xi, U);
+  }
+}
+
+double FixNospdBonds::zem_indicator(int i) const
+{
+  if (singular[i]) return 0.0;
+  NOSPD::ZemSum sum(NOSPD::load(defgrad[i]) - NOSPD::Mat3::Identity(), domain->dimension == 2);
+  add_bond_motion(i, sum);
+  return sum.value();
+}
+
+double FixNospdBonds::zem_quadratic(int i) const
+{
+  if (singular[i]) return -1.0;
+  NOSPD::QuadraticZemSum sum;
+  add_bond_motion(i, sum);
+  return sum.value();
+}
+
+/* ----------------------------------------------------------------------
+   A zero-energy mode that the stabilization does not hold shows as bond
+   motion that no smooth field describes, of the order of the strain:
+   the quadratic fit's indicator over the strain (zem_ratio).  Checked
+   every ZEM_CHECK_EVERY steps of a run and at the end of each
+   minimization, on the points with whole families (a surface's or a cut
+   family's fit is not a mode) of a body with no broken bond; warned
+   once, with the worst point and what to do.  The limit lies between the worst of runs
+   whose fields are right (thick cylinder with silling 0.5: 0.07; plate
+   with a hole: 0.16) and of runs with anisotropic plastic zones (the
+   cylinder with silling 0.05: 0.32, on the quadratic fit 0.44): doc
+   Howto_choose_model, "Warnings".
+------------------------------------------------------------------------- */
+
+void FixNospdBonds::check_zero_energy_modes()
+{
+  if (zem_warned || model.zem_control.empty() || !bond_arrays_current()) return;
+  // bonds that break release waves at the spacing's scale, which the
+  // indicator cannot tell from modes: bodies with broken bonds are not checked
+  if (nbonds_broken > 0) return;
+  const int nlocal = atom->nlocal, ntypes = atom->ntypes;
+  const int *type = atom->type;
+  const bool plane = (domain->dimension == 2);
+  // whole families: at least 95 % of the largest family of the type
+  std::vector<int> fmax(ntypes + 1, 0), fall(ntypes + 1, 0);
+  for (int i = 0; i < nlocal; i++) fmax[type[i]] = std::max(fmax[type[i]], family_size[i]);
+  MPI_Allreduce(fmax.data(), fall.data(), ntypes + 1, MPI_INT, MPI_MAX, world);
+  auto counted = [&](int i) {
+    return !singular[i] && !lost_bonds(i) && !(model.active && !model.active[type[i]]) &&
+        family_size[i] >= 0.95 * fall[type[i]];
+  };
+  std::vector<double> e(nlocal, 0.0);
+  double emax = 0.0, body = 0.0;
+  for (int i = 0; i < nlocal; i++)
+    if (counted(i))
+      emax = std::max(emax, e[i] = NOSPD::green_strain_norm(NOSPD::load(defgrad[i]), plane));
+  MPI_Allreduce(&emax, &body, 1, MPI_DOUBLE, MPI_MAX, world);
+  if (!std::isfinite(body)) return;    // the instability checks say so
+  // the worst ratio with its atom ID, and the count above the limit
+  struct {
+    double ratio;
+    int rank;
+  } mine = {0.0, comm->me}, worst;
+  double info[3] = {0.0, 0.0, 0.0};    // ID, indicator, strain of the worst
+  bigint nabove = 0;
+  for (int i = 0; i < nlocal; i++) {
+    if (!counted(i)) continue;
+    const double z = zem_quadratic(i);
+    if (z < 0.0) continue;
+    const double r = NOSPD::zem_ratio(z, e[i], body);
+    if (r > ZEM_RATIO_LIMIT) nabove++;
+    if (r > mine.ratio) {
+      mine.ratio = r;
+      info[0] = (double) atom->tag[i], info[1] = z, info[2] = e[i];
+    }
+  }
+  MPI_Allreduce(&mine, &worst, 1, MPI_DOUBLE_INT, MPI_MAXLOC, world);
+  if (!(worst.ratio > ZEM_RATIO_LIMIT)) return;
+  bigint nall = 0;
+  MPI_Allreduce(&nabove, &nall, 1, MPI_LMP_BIGINT, MPI_SUM, world);
+  MPI_Bcast(info, 3, MPI_DOUBLE, worst.rank, world);
+  zem_warned = true;
+  if (comm->me == 0)
+    error->warning(FLERR, "Fix {}: step {}: zero-energy modes: at {} point(s) the bond motion "
+                   "that no smooth field describes exceeds {} of the strain (worst: atom {}, "
+                   "{:.3g} at strain {:.3g}); `stabilization {}` does not hold them here and "
+                   "the stress field is unreliable (a patchy or anisotropic plastic zone, a "
+                   "wavy field): raise the stabilization (silling 0.5) or use pair_style "
+                   "peri/nospd/hs; compute nospd/atom zem shows where (doc Howto_choose_model, "
+                   "\"Warnings\")", style, update->ntimestep, nall, ZEM_RATIO_LIMIT,
+                   (tagint) info[0], info[1], info[2], model.zem_control);
+}

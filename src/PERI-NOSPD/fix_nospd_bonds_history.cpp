@@ -69,9 +69,18 @@ int FixNospdBonds::unpack_history(int i, const double *buf, int n_atom, int n_bo
    (an MD run has accepted each of its steps at their end already)
 ------------------------------------------------------------------------- */
 
+void FixNospdBonds::end_of_step()
+{
+  commit_history();
+  if (update->ntimestep % ZEM_CHECK_EVERY == 0) check_zero_energy_modes();
+}
+
 void FixNospdBonds::post_run()
 {
-  if (update->whichflag == 2) hist.commit();
+  if (update->whichflag == 2) {
+    hist.commit();
+    check_zero_energy_modes();    // a run is checked every ZEM_CHECK_EVERY steps
+  }
   hist.trial_ready = false;
 }
 

@@ -229,6 +229,14 @@ void FixNospdDamage::init()
                    "and forces are those of the body with the bonds intact at the start of the "
                    "rerun", cmd, id);
   rerun_warned = rerun;    // once per rerun command (it initializes per snapshot)
+  // measured in the projectile scene: doc Howto_choose_model, "Warnings"
+  if (comm->me == 0 && !fragment_warned && criterion != NONE && pair->bond_associated() &&
+      pair->stabilization_kind() == static_cast<int>(NOSPD::Stab::NONE))
+    error->warning(FLERR, "{} {}: the bond-associated style without a stabilization term lets "
+                   "damaged families run away (the body shatters where peri/pmb cracks); add "
+                   "`stabilization silling 0.5` to pair_style peri/nospd/hs (doc "
+                   "Howto_choose_model, \"Warnings\")", cmd, id);
+  fragment_warned = true;
   if (criterion == EQPS || criterion == JC_DAMAGE) {
     bool any = false;
     for (int i = 1; i <= atom->ntypes; i++)

@@ -105,6 +105,7 @@ class FixNospdDamage : public Fix {
   bigint ncontact;          // pairs in contact at the last force evaluation
   double econtact;          // contact energy of the owned atoms, last evaluation
   bool rerun_warned = false;    // rerun's warning given
+  bool fragment_warned = false;    // the bond-associated style with no stabilization term
 
   // the fix's arguments and the keyword a number belongs to, for its error
   struct Args {

@@ -185,6 +185,82 @@ inline Eigen::Matrix<double, 3, 9> quadratic_fit(const Eigen::Matrix<double, 3, 
   return N2.lazyProduct(K2i);
 }
 
+/* The zero-energy-mode indicator of a point,
+     |z| = sqrt( sum_j w |U_j - H xi_j|^2 / sum_j w |xi_j|^2 ),
+   the part of the bond motion that F = I + H does not describe, relative
+   to the bond lengths: zero for any homogeneous deformation, of the order
+   of the strain in an hourglass mode.  In 2D the out-of-plane component of
+   H xi (plane stress F33) is not a bond quantity and is left out. */
+class ZemSum {
+ public:
+  ZemSum(const Mat3 &H, bool plane) : H(H), plane(plane) {}
+  void add(double w, const Vec3 &xi, const Vec3 &U)
+  {
+    Vec3 Hxi = H * xi;
+    if (plane) Hxi[2] = 0.0;
+    zz += w * (U - Hxi).squaredNorm();
+    xx += w * xi.squaredNorm();
+  }
+  double value() const { return xx > 0.0 ? std::sqrt(zz / xx) : 0.0; }
+
+ private:
+  Mat3 H;
+  bool plane;
+  double zz = 0.0, xx = 0.0;
+};
+
+/* The same measure after a quadratic fit: the bond motion that neither a
+   linear nor a quadratic field describes.  A smooth field's curvature
+   (a stress concentration, a bending plate) leaves the linear indicator
+   of the order of delta |grad H| but this one of delta^2 |grad grad H|,
+   while a mode at the spacing's scale shows in both.  One pass: the
+   residual is sum w |U|^2 - tr(A N2^T) with A = N2 K2^-1.  Negative where
+   the family spans no quadratic fit. */
+class QuadraticZemSum {
+ public:
+  void add(double w, const Vec3 &xi, const Vec3 &U)
+  {
+    Eigen::Matrix<double, 9, 1> phi;
+    phi.head<3>() = xi;
+    quadratic_terms(xi.data(), phi.data() + 3);
+    K2.noalias() += w * phi * phi.transpose();
+    N2.noalias() += w * U * phi.transpose();
+    uu += w * U.squaredNorm();
+    xx += w * xi.squaredNorm();
+  }
+  double value() const
+  {
+    double rec[QuadraticFit::RECORD];
+    if (!(xx > 0.0) || !quadratic_fit_inverse(K2, rec)) return -1.0;
+    const Eigen::Matrix<double, 3, 9> A = quadratic_fit(N2, rec);
+    return std::sqrt(std::max(uu - A.cwiseProduct(N2).sum(), 0.0) / xx);
+  }
+
+ private:
+  Eigen::Matrix<double, 9, 9> K2 = Eigen::Matrix<double, 9, 9>::Zero();
+  Eigen::Matrix<double, 3, 9> N2 = Eigen::Matrix<double, 3, 9>::Zero();
+  double uu = 0.0, xx = 0.0;
+};
+
+/* The strain the indicator is measured against: |F^T F - I| / 2 (the Green
+   strain's norm, blind to rotations; in 2D of the in-plane block). */
+inline double green_strain_norm(const Mat3 &F, bool plane)
+{
+  Mat3 C = F.transpose() * F - Mat3::Identity();
+  if (plane) C.row(2).setZero(), C.col(2).setZero();
+  return 0.5 * C.norm();
+}
+
+/* An indicator over the strain, the strain floored at `floor_fraction` of
+   the body's largest (a point at rest in a strained body is measured
+   against the body's strain, not its own). */
+inline double zem_ratio(double z, double strain, double body_strain, double floor_fraction = 0.1)
+{
+  // below 1e-6 the strain is no scale (a body at rest or turning rigidly,
+  // whose indicator is rounding): a pure mode (F = I) still shows
+  return z / std::max({strain, floor_fraction * body_strain, 1.0e-6});
+}
+
 }    // namespace NOSPD
 
 #endif

@@ -64,6 +64,7 @@ class PairPeriNospdBase : public Pair {
   // a type this style owns (under pair hybrid others may belong to other styles)
   bool owns_type(int itype) const { return active[itype] != 0; }
   int stabilization_kind() const { return static_cast<int>(stab); }
+  bool bond_associated() const { return family_kind() == 2; }
   // built-in inelastic materials (history kept by the bonds fix)
   bool has_history(int itype) const { return inelastic[itype] == POINT_PLASTIC; }
   // a type with history that the bond-associated style runs per bond through
@@ -139,6 +140,9 @@ class PairPeriNospdBase : public Pair {
   // fit's quadratic part, 6 columns of 3, forward-communicated, with a
   // spare row) and per owned atom its sums (nospd_bond_sums.h, QSUMS)
   double **qmat, **qsums;
+  std::string zem_control() const;
+  void warn_plastic_flow(const std::string &cmd);
+  bool plastic_flow_warned = false;
   bool quadratic_active() const { return fit_quadratic && stab == NOSPD::Stab::SILLING; }
   static constexpr int STAB_SCALAR = 9;    // its place in bmat
   NOSPD::Positions positions{};    // this step's padded positions (pass 1 and 2)

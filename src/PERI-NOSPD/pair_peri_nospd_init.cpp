@@ -92,6 +92,30 @@ void PairPeriNospdBase::check_run_environment(const std::string &cmd)
 }
 
 /* ----------------------------------------------------------------------
+   Silling's springs on the linear fit store the curvature of a smooth
+   plastic flow and hold large flows back (Taylor bars 16-25 % narrow:
+   doc Howto_choose_model, "Warnings"); contained plastic zones are right
+   with them.  Said once, with the alternatives.
+------------------------------------------------------------------------- */
+
+void PairPeriNospdBase::warn_plastic_flow(const std::string &cmd)
+{
+  if (plastic_flow_warned || family_kind() != 1 || stab != Stab::SILLING || fit_quadratic) return;
+  int plastic = 0;
+  for (int i = 1; i <= atom->ntypes && !plastic; i++)
+    if (active[i] && has_history(i)) plastic = i;
+  if (!plastic) return;
+  plastic_flow_warned = true;
+  if (comm->me == 0)
+    error->warning(FLERR, "{}: type {} is plastic and `stabilization silling {:g}` acts on the "
+                   "linear fit, whose springs hold large plastic flow back (measured: Taylor "
+                   "bar footprints 16-25 % narrow); for large flow (impacts, forming) use "
+                   "stabilization silling 0.05 stabilization/fit quadratic or pair_style "
+                   "peri/nospd/hs; plastic zones of a few per cent strain are right as they "
+                   "are (doc Howto_choose_model, \"Warnings\")", cmd, plastic, stab_param);
+}
+
+/* ----------------------------------------------------------------------
    every owned point of an active type has a volume and a density, and the
    horizons reach beyond the spacing of the points
 ------------------------------------------------------------------------- */
@@ -191,6 +215,7 @@ int PairPeriNospdBase::setup_laws(const std::string &cmd)
   }
   history_size = MAX(history_size, user_materials->history_size());
   build_materials();
+  warn_plastic_flow(cmd);
   if (temperature_kind == TEMP_PROPERTY) {
     int flag, cols;
     temperature_index = atom->find_custom(temperature_name.c_str(), flag, cols);
@@ -282,6 +307,24 @@ void PairPeriNospdBase::set_stiffness_bound(NospdBondModel &m)
   }
   m.family_rows = family_row_bound();
   m.bound_margin = bound_margin();
+  m.zem_control = zem_control();
+}
+
+/* the zero-energy-mode control as written in pair_style, for the bonds
+   fix's warning (the classical style's: the bond-associated style has no
+   zero-energy modes to control) */
+
+std::string PairPeriNospdBase::zem_control() const
+{
+  if (family_kind() != 1) return "";
+  switch (stab) {
+    case Stab::SILLING:
+      return fmt::format("silling {:g}{}", stab_param,
+                         fit_quadratic ? " stabilization/fit quadratic" : "");
+    case Stab::HOURGLASS: return fmt::format("hourglass {:g}", stab_param);
+    case Stab::WAN: return "wan";
+    default: return "none";
+  }
 }
 
 /* ----------------------------------------------------------------------

@@ -1,0 +1,114 @@
+/* Warnings of settings known to go wrong (issue: one setting right in every
+   scene).  The zero-energy-mode check of the bonds fix (at the end of each
+   minimization, every 1000 steps of a run): a checkerboard mode that the
+   stabilization does not hold warns once, naming the setting; a smooth
+   (quadratic, bending) field of the same size does not, nor does a body
+   with broken bonds (not checked: breaking releases waves at the
+   spacing's scale). */
+
+#include "nospd_test_util.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+using namespace nospdtest;
+using LAMMPS_NS::LAMMPS;
+using ::testing::HasSubstr;
+
+namespace {
+class Warnings : public ::testing::Test {
+ protected:
+  LAMMPS *lmp = nullptr;
+  void SetUp() override { lmp = open_lammps(); }
+  void TearDown() override { delete lmp; }
+
+  // a 9^3 block with the displacement field (ux, uy, uz) as atom-style
+  // formulas of i, j, k (the lattice indices), held where it is
+  void block_with_field(const std::string &settings, const std::string &ux,
+                        const std::string &uy, const std::string &uz)
+  {
+    Block blk;
+    blk.n = 9;
+    blk.settings = settings;
+    make_block(lmp, blk);
+    cmd(lmp, "variable i atom round(x/" + num(blk.dx) + ")-4");
+    cmd(lmp, "variable j atom round(y/" + num(blk.dx) + ")-4");
+    cmd(lmp, "variable k atom round(z/" + num(blk.dx) + ")-4");
+    cmd(lmp, "variable ux atom " + ux);
+    cmd(lmp, "variable uy atom " + uy);
+    cmd(lmp, "variable uz atom " + uz);
+    cmd(lmp, "displace_atoms all move v_ux v_uy v_uz units box");
+    cmd(lmp, "fix hold all setforce 0 0 0");
+  }
+};
+
+const std::string MODE = "1e-7*cos(PI*(v_i+v_j+v_k))";
+const std::string WARNING = "zero-energy modes";
+}    // namespace
+
+TEST_F(Warnings, ZeroEnergyModeWarnsOnceNamingTheSetting)
+{
+  block_with_field("stabilization none", MODE, "0", "0");
+  const auto text = log_of(lmp, {"minimize 0 0 1 1", "minimize 0 0 1 1"});
+  EXPECT_THAT(text, HasSubstr(WARNING));
+  EXPECT_THAT(text, HasSubstr("`stabilization none` does not hold them"));
+  EXPECT_EQ(text.find(WARNING), text.rfind(WARNING));    // once
+}
+
+// a bending field (quadratic in the position) whose strain is of the order
+// of the mode's indicator above: the linear fit's indicator would flag it
+TEST_F(Warnings, SmoothFieldDoesNotWarn)
+{
+  block_with_field("stabilization none", "1e-7*v_i*v_j", "-0.5e-7*v_i*v_i", "0");
+  EXPECT_EQ(log_of(lmp, {"minimize 0 0 1 1"}).find(WARNING), std::string::npos);
+}
+
+TEST_F(Warnings, BodyWithBrokenBondsIsNotChecked)
+{
+  block_with_field("stabilization none", MODE, "0", "0");
+  cmd(lmp, "run 0");
+  ASSERT_GT(break_random_bonds(lmp, 0.01, 3), 0);
+  EXPECT_EQ(log_of(lmp, {"minimize 0 0 1 1"}).find(WARNING), std::string::npos);
+}
+
+// Silling's springs on the linear fit with a plastic law: said once at
+// init, with the alternatives; not on the quadratic fit, not for elastic laws
+TEST_F(Warnings, PlasticFlowOnTheLinearFitWarns)
+{
+  const std::string said = "hold large plastic flow back";
+  for (const std::string settings : {"stabilization silling 0.5",
+                                     "stabilization silling 0.05 stabilization/fit quadratic"}) {
+    for (const bool plastic : {true, false}) {
+      delete lmp;
+      lmp = open_lammps();
+      Block blk;
+      blk.n = 6;
+      blk.settings = settings;
+      make_block(lmp, blk);
+      if (plastic) cmd(lmp, "pair_coeff * * 200e9 0.3 " + num(blk.delta()) + " yield 250e6");
+      const auto text = log_of(lmp, {"run 0", "run 0"});
+      const bool expected = plastic && settings == "stabilization silling 0.5";
+      EXPECT_EQ(text.find(said) != std::string::npos, expected) << settings << " " << plastic;
+      EXPECT_EQ(text.find(said), text.rfind(said));    // at most once
+    }
+  }
+}
+
+// fix nospd/damage with the bond-associated style and no stabilization term
+TEST_F(Warnings, BondAssociatedDamageWithoutStabilizationWarns)
+{
+  const std::string said = "without a stabilization term lets damaged families run away";
+  for (const std::string settings : {"", "stabilization silling 0.5"}) {
+    delete lmp;
+    lmp = open_lammps();
+    Block blk;
+    blk.n = 6;
+    blk.style = "peri/nospd/hs";
+    blk.settings = settings;
+    make_block(lmp, blk);
+    cmd(lmp, "fix d all nospd/damage stretch 0.01");
+    const auto text = log_of(lmp, {"run 0", "run 0"});
+    EXPECT_EQ(text.find(said) != std::string::npos, settings.empty()) << settings;
+    EXPECT_EQ(text.find(said), text.rfind(said));
+  }
+}
