@@ -477,7 +477,11 @@ void FixNospdBonds::build_bond_arrays()
                        domain->zperiodic && domain->dimension == 3};
   int bad_i = -1, bad_j = -1;
 
+  // a partner farther than the ghost cutoff is one other ranks cannot see:
+  // such bonds go the same way on any rank count (settle_far_bonds)
+  const double cut = comm->get_comm_cutoff();
   std::vector<MissingPartner> missing;
+  std::vector<FarBond> far;
   for (int i = 0; i < nlocal; i++) {
     fam.open(i);
     for (int n = 0; n < npartner[i]; n++) {
@@ -493,6 +497,12 @@ void FixNospdBonds::build_bond_arrays()
       const double dy = x0s[j][1] - x0s[i][1];
       const double dz = x0s[j][2] - x0s[i][2];
       const double r = sqrt(dx * dx + dy * dy + dz * dz);
+      const double Y[3] = {x[j][0] - x[i][0], x[j][1] - x[i][1], x[j][2] - x[i][2]};
+      const double len = sqrt(Y[0] * Y[0] + Y[1] * Y[1] + Y[2] * Y[2]);
+      if (len > cut) {
+        far.push_back({i, n, t, len});
+        continue;
+      }
       if (periodic && bad_i < 0) {
         // Y - xi in fractions of the periodic box vectors
         const double ux = x[j][0] - x[i][0] - dx, uy = x[j][1] - x[i][1] - dy,
@@ -521,7 +531,8 @@ void FixNospdBonds::build_bond_arrays()
 
   int nmissing = missing.size(), anymissing = 0;
   MPI_Allreduce(&nmissing, &anymissing, 1, MPI_INT, MPI_SUM, world);
-  if (anymissing) resolve_missing(missing);
+  if (anymissing) resolve_missing(missing, far);
+  settle_far_bonds(far);
   if (pair_order) fam.order_for_pairs();
 }
 

@@ -314,7 +314,14 @@ class FixNospdBonds : public FixPeriNeigh {
     int i, slot;
     tagint tag;
   };
-  void resolve_missing(const std::vector<MissingPartner> &missing);
+  struct FarBond {
+    int i, slot;
+    tagint tag;
+    double length;    // current
+  };
+  void resolve_missing(const std::vector<MissingPartner> &missing, std::vector<FarBond> &far);
+  void settle_far_bonds(const std::vector<FarBond> &far);
+  bool far_warned = false;
   int partner_index(tagint t) const;
   void follow_renumbered_tags();
   void warn_vanished(bigint nbroken);

@@ -9,6 +9,7 @@
 #include "comm.h"
 #include "domain.h"
 #include "error.h"
+#include "modify.h"
 #include "output.h"
 #include "thermo.h"
 #include "update.h"
@@ -121,7 +122,8 @@ void FixNospdBonds::warn_vanished(bigint nbroken)
    part, since which is which takes a global look-up of the tags.
 ------------------------------------------------------------------------- */
 
-void FixNospdBonds::resolve_missing(const std::vector<MissingPartner> &missing)
+void FixNospdBonds::resolve_missing(const std::vector<MissingPartner> &missing,
+                                    std::vector<FarBond> &far)
 {
   // the missing tags of all ranks, with the owner's position where one exists
   std::vector<tagint> mine;
@@ -148,41 +150,19 @@ void FixNospdBonds::resolve_missing(const std::vector<MissingPartner> &missing)
   const auto first_mine = tags.begin() + displs[comm->me];
   const auto last_mine = first_mine + nmine;
 
-  int nvanished = 0, nfar = 0;
-  const MissingPartner *far = nullptr;
-  double far_pos[3] = {0.0, 0.0, 0.0};
+  int nvanished = 0;
   for (const auto &m : missing) {
     const int k = std::lower_bound(first_mine, last_mine, m.tag) - tags.begin();
     if (found_all[4 * k] == 0.0) {
       partner[m.i][m.slot] = 0;    // the partner is gone: so is the bond
       stale[m.i] = 1;
       nvanished++;
-    } else if (!nfar++) {
-      far = &m;
-      for (int d = 0; d < 3; d++) far_pos[d] = found_all[4 * k + 1 + d];
-    }
-  }
-
-  int anyfar = 0;
-  MPI_Allreduce(&nfar, &anyfar, 1, MPI_INT, MPI_SUM, world);
-  if (anyfar) {
-    // a line-search minimizer moves atoms by up to min_modify dmax (0.1
-    // distance units by default: 10 cm in SI) in its first trial step
-    const std::string hint = (update->whichflag == 2)
-        ? "; under minimize, set min_modify dmax to a fraction of the point spacing"
-        : "";
-    if (nfar) {
+    } else {
       double d[3];
-      for (int k = 0; k < 3; k++) d[k] = far_pos[k] - atom->x[far->i][k];
+      for (int c = 0; c < 3; c++) d[c] = found_all[4 * k + 1 + c] - atom->x[m.i][c];
       domain->minimum_image(FLERR, d);
-      error->one(FLERR,
-                 "Fix {}: bond partner {} of atom {} is {:.6g} away, beyond the ghost cutoff "
-                 "{:.6g} ({} such bonds on this rank): a bond stretched beyond it; increase "
-                 "it with comm_modify cutoff or break such bonds with a damage fix{}",
-                 style, far->tag, atom->tag[far->i], sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]),
-                 comm->get_comm_cutoff(), nfar, hint);
+      far.push_back({m.i, m.slot, m.tag, sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2])});
     }
-    error->all(FLERR, "Fix {}: bond partners beyond the ghost cutoff on another rank", style);
   }
 
   // atoms lost (LAMMPS still counts them) rather than deleted: unless the
@@ -204,4 +184,44 @@ void FixNospdBonds::resolve_missing(const std::vector<MissingPartner> &missing)
   MPI_Allreduce(&one, &all, 1, MPI_LMP_BIGINT, MPI_SUM, world);
   nbonds_vanished += all;
   warn_vanished(all);
+}
+
+/* ----------------------------------------------------------------------
+   Bonds longer than the ghost cutoff: on one rank their partners are at
+   hand, on several they may not be, so they go the same way on any rank
+   count.  With a damage fix they break (a bond stretched that far has
+   failed, whatever the criterion: Johnson-Cook or eqps failure do not look
+   at stretch); without one they are an error.
+------------------------------------------------------------------------- */
+
+void FixNospdBonds::settle_far_bonds(const std::vector<FarBond> &far)
+{
+  int nfar = far.size(), anyfar = 0;
+  MPI_Allreduce(&nfar, &anyfar, 1, MPI_INT, MPI_SUM, world);
+  if (!anyfar) return;
+  if (modify->get_fix_by_style("^nospd/damage").empty()) {
+    // a line-search minimizer moves atoms by up to min_modify dmax (0.1
+    // distance units by default: 10 cm in SI) in its first trial step
+    const std::string hint = (update->whichflag == 2)
+        ? "; under minimize, set min_modify dmax to a fraction of the point spacing"
+        : "";
+    if (nfar)
+      error->one(FLERR,
+                 "Fix {}: bond partner {} of atom {} is {:.6g} away, beyond the ghost cutoff "
+                 "{:.6g} ({} such bonds on this rank): a bond stretched beyond it; increase "
+                 "it with comm_modify cutoff or break such bonds with a damage fix{}",
+                 style, far[0].tag, atom->tag[far[0].i], far[0].length, comm->get_comm_cutoff(),
+                 nfar, hint);
+    error->all(FLERR, "Fix {}: bond partners beyond the ghost cutoff on another rank", style);
+  }
+  for (const auto &f : far) {
+    partner[f.i][f.slot] = 0;
+    stale[f.i] = 1;
+  }
+  count_bonds_pending = true;
+  if (comm->me == 0 && !far_warned)
+    error->warning(FLERR, "Fix {}: {} bond ends stretched beyond the ghost cutoff {:.4g} broke "
+                   "(with a damage fix such bonds break on any rank count; reported once)",
+                   style, anyfar, comm->get_comm_cutoff());
+  far_warned = true;
 }

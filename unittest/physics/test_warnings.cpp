@@ -112,3 +112,36 @@ TEST_F(Warnings, BondAssociatedDamageWithoutStabilizationWarns)
     EXPECT_EQ(text.find(said), text.rfind(said));
   }
 }
+
+/* A bond stretched beyond the ghost cutoff: on several ranks its partner
+   may be out of sight, so the rule is the same on any rank count (here one
+   rank, where the partner is always at hand): with a damage fix it breaks,
+   whatever the criterion (a stretch limit it never reaches here), without
+   one it is an error naming the bond. */
+TEST_F(Warnings, BondsBeyondTheGhostCutoffBreakWithADamageFix)
+{
+  Block blk;
+  blk.n = 6;
+  for (const bool damage : {true, false}) {
+    delete lmp;
+    lmp = open_lammps();
+    make_block(lmp, blk);
+    if (damage) cmd(lmp, "fix d all nospd/damage stretch 100");
+    cmd(lmp, "run 0");
+    // one corner point pulled 2.5 horizons out: its bonds pass the cutoff (2.2 horizons)
+    cmd(lmp, "group corner id 1");
+    cmd(lmp, "displace_atoms corner move " + num(-2.5 * blk.delta()) + " 0 0 units box");
+    if (!damage) {
+      EXPECT_THAT(error_of(lmp, "run 0"), HasSubstr("beyond the ghost cutoff"));
+      continue;
+    }
+    const auto text = log_of(lmp, {"run 0"});
+    EXPECT_THAT(text, HasSubstr("stretched beyond the ghost cutoff"));
+    auto *fb = static_cast<LAMMPS_NS::FixNospdBonds *>(lmp->modify->get_fix_by_id("NOSPD_BONDS"));
+    const int i = lmp->atom->map(1);
+    int intact = 0;
+    for (int s = 0; s < fb->npartner[i]; s++) intact += fb->partner[i][s] != 0;
+    EXPECT_EQ(intact, 0);
+    EXPECT_EQ(fb->bond_first[i + 1] - fb->bond_first[i], 0);
+  }
+}
