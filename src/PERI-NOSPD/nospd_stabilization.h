@@ -214,26 +214,41 @@ class ZemSum {
    (a stress concentration, a bending plate) leaves the linear indicator
    of the order of delta |grad H| but this one of delta^2 |grad grad H|,
    while a mode at the spacing's scale shows in both.  One pass: the
-   residual is sum w |U|^2 - tr(A N2^T) with A = N2 K2^-1.  Negative where
-   the family spans no quadratic fit. */
+   residual is sum w |U|^2 - tr(N2 K2^-1 N2^T).  Negative where the family
+   spans no quadratic fit. */
 class QuadraticZemSum {
  public:
   void add(double w, const Vec3 &xi, const Vec3 &U)
   {
-    Eigen::Matrix<double, 9, 1> phi;
-    phi.head<3>() = xi;
-    quadratic_terms(xi.data(), phi.data() + 3);
-    K2.noalias() += w * phi * phi.transpose();
-    N2.noalias() += w * U * phi.transpose();
+    double phi[9] = {xi[0], xi[1], xi[2]};
+    quadratic_terms(xi.data(), phi + 3);
+    const double wu[3] = {w * U[0], w * U[1], w * U[2]};
+    for (int c = 0; c < 9; c++) {
+      const double wc = w * phi[c];
+      for (int r = 0; r <= c; r++) K2(r, c) += wc * phi[r];    // upper triangle
+      for (int a = 0; a < 3; a++) N2(a, c) += wu[a] * phi[c];
+    }
     uu += w * U.squaredNorm();
     xx += w * xi.squaredNorm();
   }
+  // a check, not a force: the scaled K2 by LDLT (basis functions no bond
+  // spans, in 2D the out-of-plane ones, left out as identity rows), its
+  // pivots' spread standing in for the conditioning of quadratic_fit_inverse
   double value() const
   {
-    double rec[QuadraticFit::RECORD];
-    if (!(xx > 0.0) || !quadratic_fit_inverse(K2, rec)) return -1.0;
-    const Eigen::Matrix<double, 3, 9> A = quadratic_fit(N2, rec);
-    return std::sqrt(std::max(uu - A.cwiseProduct(N2).sum(), 0.0) / xx);
+    if (!(xx > 0.0)) return -1.0;
+    Eigen::Matrix<double, 9, 9> S = K2.selfadjointView<Eigen::Upper>();
+    Eigen::Matrix<double, 9, 1> scale;
+    for (int k = 0; k < 9; k++) scale[k] = S(k, k) > 0.0 ? 1.0 / std::sqrt(S(k, k)) : 0.0;
+    S = scale.asDiagonal() * S * scale.asDiagonal();
+    for (int k = 0; k < 9; k++)
+      if (scale[k] == 0.0) S(k, k) = 1.0;
+    const Eigen::LDLT<Eigen::Matrix<double, 9, 9>> ldlt(S);
+    const auto d = ldlt.vectorD();
+    if (!(d.minCoeff() > QuadraticFit::TOLERANCE * d.maxCoeff())) return -1.0;
+    const Eigen::Matrix<double, 3, 9> Ns = N2 * scale.asDiagonal();
+    const Eigen::Matrix<double, 9, 3> A = ldlt.solve(Ns.transpose());
+    return std::sqrt(std::max(uu - Ns.cwiseProduct(A.transpose()).sum(), 0.0) / xx);
   }
 
  private:
