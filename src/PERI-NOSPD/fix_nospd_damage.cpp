@@ -49,6 +49,7 @@
 #include "region.h"
 #include "update.h"
 
+#include "nospd_contact_memory.h"
 #include "nospd_damage_criteria.h"
 #include "nospd_input.h"
 #include "nospd_plasticity.h"
@@ -177,11 +178,18 @@ FixNospdDamage::FixNospdDamage(LAMMPS *lmp, int narg, char **arg) :
   }
   ncomm = 4 + nstate;
   comm_forward = ncomm;
-  if (nstate) {
+  if (peratom()) {
     FixNospdDamage::grow_arrays(atom->nmax);
     atom->add_callback(Atom::GROW);
-    for (int i = 0; i < atom->nlocal; i++)
+    for (int i = 0; i < atom->nlocal; i++) {
       for (int k = 0; k < nstate; k++) state[i][k] = 0.0;
+      if (contact) NOSPD::ContactMemory::clear(cmem[i]);
+    }
+  }
+  if (contact) {
+    // the remembered contacts go into restart files with their atoms
+    restart_peratom = 1;
+    atom->add_callback(Atom::RESTART);
   }
 }
 
@@ -189,8 +197,10 @@ FixNospdDamage::FixNospdDamage(LAMMPS *lmp, int narg, char **arg) :
 
 FixNospdDamage::~FixNospdDamage()
 {
-  if (nstate && modify->get_fix_by_id(id)) atom->delete_callback(id, Atom::GROW);
+  if (peratom() && modify->get_fix_by_id(id)) atom->delete_callback(id, Atom::GROW);
+  if (contact && modify->get_fix_by_id(id)) atom->delete_callback(id, Atom::RESTART);
   memory->destroy(state);
+  memory->destroy(cmem);
   delete[] nofail_region_id;
   memory->destroy(crit);
   memory->destroy(kcontact);
@@ -708,9 +718,16 @@ void FixNospdDamage::stretch_cuts(std::vector<std::pair<int, int>> &cut)
 
 int FixNospdDamage::break_list(std::vector<std::pair<int, int>> &cut)
 {
+  if (contact) remember_contacts(cut);
   for (auto &p : cut) bonds->break_bond(p.first, p.second);
-  bigint mine = (bigint) cut.size(), all = 0;
-  MPI_Allreduce(&mine, &all, 1, MPI_LMP_BIGINT, MPI_SUM, world);
+  bigint mine[2] = {(bigint) cut.size(), cmem_full}, sums[2] = {0, 0};
+  MPI_Allreduce(mine, sums, 2, MPI_LMP_BIGINT, MPI_SUM, world);
+  const bigint all = sums[0];
+  if (sums[1] && !cmem_warned && comm->me == 0)
+    error->warning(FLERR, "Fix {}: {} bonds broke below the contact rest distance with no room "
+                   "left to remember them ({} per atom): their contact starts loaded, which adds "
+                   "energy; check the energy balance", style, sums[1], NOSPD::ContactMemory::CAPACITY);
+  if (sums[1]) cmem_warned = true;
   if (all % 2)
     error->all(FLERR, "Fix {}: bonds broken on one end only ({} slots): bond evaluation is not "
                "symmetric; please report this", style, all);
@@ -819,41 +836,4 @@ void FixNospdDamage::restart(char *buf)
   nbroken_total = (bigint) list_[0];
   // the families in the restart file already carry the pre-cracks; cutting
   // them again finds no bond to cut, so nothing is skipped here
-}
-
-/* ---------------------------------------------------------------------- */
-
-double FixNospdDamage::memory_usage()
-{
-  return (double) nmax_comm * ncomm * sizeof(double) + (double) atom->nmax * nstate * sizeof(double);
-}
-
-/* ---------------------------------------------------------------------- */
-
-void FixNospdDamage::grow_arrays(int nmax)
-{
-  memory->grow(state, nmax, nstate, "nospd/damage:state");
-}
-
-/* ---------------------------------------------------------------------- */
-
-void FixNospdDamage::copy_arrays(int i, int j, int /*delflag*/)
-{
-  for (int k = 0; k < nstate; k++) state[j][k] = state[i][k];
-}
-
-/* ---------------------------------------------------------------------- */
-
-int FixNospdDamage::pack_exchange(int i, double *buf)
-{
-  for (int k = 0; k < nstate; k++) buf[k] = state[i][k];
-  return nstate;
-}
-
-/* ---------------------------------------------------------------------- */
-
-int FixNospdDamage::unpack_exchange(int nlocal, double *buf)
-{
-  for (int k = 0; k < nstate; k++) state[nlocal][k] = buf[k];
-  return nstate;
 }

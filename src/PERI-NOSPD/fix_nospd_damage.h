@@ -54,6 +54,10 @@ class FixNospdDamage : public Fix {
   void copy_arrays(int, int, int) override;
   int pack_exchange(int, double *) override;
   int unpack_exchange(int, double *) override;
+  int pack_restart(int, double *) override;
+  void unpack_restart(int, int) override;
+  int size_restart(int) override;
+  int maxsize_restart() override;
   double memory_usage() override;
 
   enum Criterion {
@@ -106,6 +110,11 @@ class FixNospdDamage : public Fix {
   double econtact;          // contact energy of the owned atoms, last evaluation
   bool rerun_warned = false;    // rerun's warning given
   bool fragment_warned = false;    // the bond-associated style with no stabilization term
+  // contact: per atom, the rest distances of pairs whose bond broke while
+  // they were closer than the nominal one (NOSPD::ContactMemory records)
+  double **cmem = nullptr;
+  bigint cmem_full = 0;            // breaks not remembered (record full), this rank
+  bool cmem_warned = false;
 
   // the fix's arguments and the keyword a number belongs to, for its error
   struct Args {
@@ -132,7 +141,9 @@ class FixNospdDamage : public Fix {
                      bool periodic, double *xi, double *U, double *Y) const;
   void apply_precracks();
   int break_list(std::vector<std::pair<int, int>> &);
+  void remember_contacts(const std::vector<std::pair<int, int>> &);
   void contact_forces();
+  bool peratom() const { return nstate > 0 || contact; }
 };
 
 }    // namespace LAMMPS_NS

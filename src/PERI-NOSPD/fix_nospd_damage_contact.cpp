@@ -6,9 +6,11 @@
 #include "fix_nospd_damage.h"
 
 #include "atom.h"
+#include "domain.h"
 #include "fix_nospd_bonds.h"
 #include "neigh_list.h"
 
+#include "nospd_contact_memory.h"
 #include "nospd_damage_criteria.h"
 
 #include "nospd_threads.h"
@@ -16,6 +18,7 @@
 #include <cmath>
 
 using namespace LAMMPS_NS;
+using NOSPD::ContactMemory;
 using NOSPD::Mat3;
 
 /* ----------------------------------------------------------------------
@@ -66,6 +69,9 @@ void FixNospdDamage::contact_forces()
       const int i = ilist[ii];
       if (!(mask[i] & groupbit)) continue;
       const int *jlist = firstneigh[i];
+      double *rec = cmem[i];
+      const int nmem = ContactMemory::count(rec);
+      bool keep[ContactMemory::CAPACITY] = {};
       for (int jj = 0; jj < numneigh[i]; jj++) {
         const int j = jlist[jj] & NEIGHMASK;
         if (!(mask[j] & groupbit)) continue;
@@ -77,7 +83,8 @@ void FixNospdDamage::contact_forces()
         const double r0 = sqrt(d0[0] * d0[0] + d0[1] * d0[1] + d0[2] * d0[2]);
         const double dij = std::min(0.9 * r0, contact_rc);
         const double r = sqrt(rsq);
-        if (r >= dij) continue;
+        const int k = nmem ? ContactMemory::find(rec, (double) tag[j]) : -1;
+        if (k < 0 && r >= dij) continue;
         // bonded pairs interact through their bond
         bool bonded = false;
         const tagint tj = tag[j];
@@ -89,12 +96,14 @@ void FixNospdDamage::contact_forces()
         if (bonded) continue;
         const int it = type[i], jt = type[j];
         if (delta[it][jt] == 0.0) continue;    // another pair style's type
+        const double d = ContactMemory::rest(rec, k, r, dij, keep);
+        if (r >= d) continue;
         const double kv = kcontact[it][jt] * vfrac[j] / delta[it][jt];
-        const double fpair = kv * (r - dij) / r;
+        const double fpair = kv * (r - d) / r;
         f[i][0] += fpair * dx;
         f[i][1] += fpair * dy;
         f[i][2] += fpair * dz;
-        e += 0.25 * kv * (r - dij) * (r - dij);
+        e += 0.25 * kv * (r - d) * (r - d);
         if (vflag_either) {
           // 1/2 (x_i - x_j) (x) f_i, x_i - x_j = -(dx, dy, dz)
           double v[6] = {-0.5 * fpair * dx * dx, -0.5 * fpair * dy * dy, -0.5 * fpair * dz * dz,
@@ -106,6 +115,7 @@ void FixNospdDamage::contact_forces()
         }
         nc++;
       }
+      if (nmem) ContactMemory::prune(rec, keep);
     }
   });
   bigint nc = 0;
@@ -120,4 +130,32 @@ void FixNospdDamage::contact_forces()
   bigint all = 0;
   MPI_Allreduce(&nc, &all, 1, MPI_LMP_BIGINT, MPI_SUM, world);
   ncontact = all / 2;
+}
+
+/* ----------------------------------------------------------------------
+   bonds about to break (atom, slot): a pair already closer than its
+   contact rest distance remembers its distance as the rest distance
+   (NOSPD::ContactMemory), so that contact does not start loaded
+------------------------------------------------------------------------- */
+
+void FixNospdDamage::remember_contacts(const std::vector<std::pair<int, int>> &cut)
+{
+  double **x = atom->x, **x0 = atom->x0;
+  const int *type = atom->type;
+  const int *mask = atom->mask;
+  for (const auto &c : cut) {
+    const int i = c.first;
+    const tagint tj = bonds->partner[i][c.second];
+    int j = atom->map(tj);
+    if (j < 0 || !(mask[i] & groupbit)) continue;
+    j = domain->closest_image(i, j);
+    if (!(mask[j] & groupbit) || delta[type[i]][type[j]] == 0.0) continue;
+    const double dx = x[j][0] - x[i][0], dy = x[j][1] - x[i][1], dz = x[j][2] - x[i][2];
+    const double r = sqrt(dx * dx + dy * dy + dz * dz);
+    if (!(r < contact_rc)) continue;
+    double d0[3];
+    bonds->reference_bond(x0[i], x0[j], d0);
+    const double r0 = sqrt(d0[0] * d0[0] + d0[1] * d0[1] + d0[2] * d0[2]);
+    if (!ContactMemory::remember(cmem[i], (double) tj, r, std::min(0.9 * r0, contact_rc))) cmem_full++;
+  }
 }
