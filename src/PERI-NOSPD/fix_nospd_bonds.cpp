@@ -73,7 +73,7 @@ FixNospdBonds::FixNospdBonds(LAMMPS *lmp, int narg, char **arg) :
     FixPeriNeigh(lmp, made_by_pair_or_error(lmp, narg, arg), arg), x0s(nullptr),
     kinv(nullptr), kinv2(nullptr), xi_moment(nullptr), u_moment(nullptr), family_size(nullptr),
     singular(nullptr),
-    defgrad(nullptr), pk1(nullptr), energy_density(nullptr), nsingular(0), nbonds_total(0),
+    defgrad(nullptr), pk1(nullptr), fcarry(nullptr), energy_density(nullptr), nsingular(0), nbonds_total(0),
     nbonds_broken(0), nbonds_vanished(0), nmax_x0s(0), stale(nullptr),
     all_stale(true), x0s_store(nullptr), own_tag(nullptr), family_type(nullptr)
 {
@@ -110,6 +110,7 @@ void FixNospdBonds::clear_atom(int i)
   family_size[i] = 0;
   stale[i] = 1;
   for (int k = 0; k < 9; k++) kinv[i][k] = defgrad[i][k] = pk1[i][k] = 0.0;
+  for (int k = 0; k < 9; k++) fcarry[i][k] = (k % 4 == 0) ? 1.0 : 0.0;
   if (kinv2)
     for (int k = 0; k < NOSPD::QuadraticFit::RECORD; k++) kinv2[i][k] = 0.0;
   for (int k = 0; k < 3; k++) xi_moment[i][k] = u_moment[i][k] = 0.0;
@@ -150,6 +151,7 @@ FixNospdBonds::~FixNospdBonds()
   memory->destroy(stale);
   memory->destroy(defgrad);
   memory->destroy(pk1);
+  memory->destroy(fcarry);
   memory->destroy(energy_density);
   memory->destroy(own_tag);
   memory->destroy(family_type);
@@ -210,7 +212,7 @@ void FixNospdBonds::setup_post_neighbor()
     if (family_type[i] > 0) family_type[i] = atom->type[i];
   check_periodicity(built_now);
   // also after a restart, where build_families() does not run
-  maxexchange = maxpartner + 22 + quadratic_record() + nhistory;
+  maxexchange = max_exchange_size();
   // the votes of the last init (a run with "pre no" may set up without one)
   if (pair_votes[0] + pair_votes[1] > 0) pair_order = pair_votes[1] > 0 && pair_votes[0] == 0;
   pair_votes[0] = pair_votes[1] = 0;
@@ -443,7 +445,7 @@ void FixNospdBonds::build_families()
       vinter[i] += fam[i][n].vol;    // read by compute damage/atom
     }
   }
-  maxexchange = maxpartner + 22 + quadratic_record() + nhistory;
+  maxexchange = max_exchange_size();
 }
 
 /* ----------------------------------------------------------------------
@@ -586,10 +588,18 @@ void FixNospdBonds::bonds_changed()
   // breaking only removes bonds, and local indices hold until the next
   // reneighboring: drop the broken entries in place rather than look every
   // partner up again (same arrays, same order, as a rebuild would give)
+  std::vector<int> changed;
+  std::vector<NOSPD::Mat3> fold;
+  const bool carry = model.carry && nbond_atoms == atom->nlocal;
+  if (carry) fits_before_change(changed, fold);
   if (nbond_atoms == atom->nlocal)
     fam.compact([this](int i, int slot) { return partner[i][slot] == 0; });
   else build_bond_arrays();
-  update_shape_tensors();
+  update_shape_tensors(!carry);
+  if (carry) {
+    carry_refits(changed, fold);
+    count_singular();
+  }
   count_bonds();
 }
 
@@ -612,7 +622,7 @@ double FixNospdBonds::memory_usage()
   double bytes = nmax * (sizeof(int) + 2 * sizeof(double));
   bytes += nmax * maxpartner * sizeof(tagint);
   // family_size, singular, stale, family_type; own_tag
-  bytes += nmax * (3 * 9 + 2 * 3 + 1) * sizeof(double) + nmax * (4 * sizeof(int) + sizeof(tagint));
+  bytes += nmax * (4 * 9 + 2 * 3 + 1) * sizeof(double) + nmax * (4 * sizeof(int) + sizeof(tagint));
   bytes += fam.bytes();
   bytes += (double) nmax_x0s * 3 * sizeof(double);
   bytes += nmax * 2.0 * nhistory * sizeof(double);
@@ -639,6 +649,7 @@ void FixNospdBonds::grow_arrays(int nmax)
   memory->grow(stale, nmax, "nospd/bonds:stale");
   memory->grow(defgrad, nmax, 9, "nospd/bonds:defgrad");
   memory->grow(pk1, nmax, 9, "nospd/bonds:pk1");
+  memory->grow(fcarry, nmax, 9, "nospd/bonds:fcarry");
   memory->grow(energy_density, nmax, "nospd/bonds:energy_density");
   memory->grow(own_tag, nmax, "nospd/bonds:own_tag");
   memory->grow(family_type, nmax, "nospd/bonds:family_type");
@@ -675,6 +686,7 @@ void FixNospdBonds::copy_arrays(int i, int j, int /*delflag*/)
     kinv[j][k] = kinv[i][k];
     defgrad[j][k] = defgrad[i][k];
     pk1[j][k] = pk1[i][k];
+    fcarry[j][k] = fcarry[i][k];
   }
   for (int k = 0; k < 3; k++) {
     xi_moment[j][k] = xi_moment[i][k];
@@ -708,6 +720,7 @@ int FixNospdBonds::pack_exchange(int i, double *buf)
   buf[m++] = singular[i];
   buf[m++] = stale[i];
   for (int k = 0; k < 9; k++) buf[m++] = kinv[i][k];
+  for (int k = 0; k < 9; k++) buf[m++] = fcarry[i][k];
   if (kinv2)
     for (int k = 0; k < NOSPD::QuadraticFit::RECORD; k++) buf[m++] = kinv2[i][k];
   for (int k = 0; k < 3; k++) buf[m++] = xi_moment[i][k];
@@ -730,6 +743,7 @@ int FixNospdBonds::unpack_exchange(int nlocal, double *buf)
   singular[nlocal] = static_cast<int>(buf[m++]);
   stale[nlocal] = static_cast<int>(buf[m++]);
   for (int k = 0; k < 9; k++) kinv[nlocal][k] = buf[m++];
+  for (int k = 0; k < 9; k++) fcarry[nlocal][k] = buf[m++];
   if (kinv2)
     for (int k = 0; k < NOSPD::QuadraticFit::RECORD; k++) kinv2[nlocal][k] = buf[m++];
   for (int k = 0; k < 3; k++) xi_moment[nlocal][k] = buf[m++];

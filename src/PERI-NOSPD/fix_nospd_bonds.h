@@ -39,6 +39,9 @@ struct NospdBondModel {
   // a family that lost bonds is singular when one bond's leverage
   // w xi^T K^-1 xi exceeds this (1: never)
   double damaged_leverage = 0.5;
+  // a family that loses bonds carries the refit's difference (F_c,
+  // nospd_carry.h): the classical style, whose law sees F F_c
+  bool carry = false;
   const int *active = nullptr;     // [ntypes+1]: 1 for the types the pair style owns
   double thickness = 1.0;          // 2D: the volumes are area x thickness
   // points closer than this fraction of their spacing (from the volume) are
@@ -115,6 +118,9 @@ class FixNospdBonds : public FixPeriNeigh {
   void set_model(const NospdBondModel &m);
   // doubles per atom of the quadratic fit operators (0 unless model.quadratic)
   int quadratic_record() const { return kinv2 ? NOSPD::QuadraticFit::RECORD : 0; }
+  // the largest migration record (pack_exchange): partners, 4 flags and
+  // sums, K^-1, F_c, the moments, ID and type, and the count
+  int max_exchange_size() const { return maxpartner + 31 + quadratic_record() + nhistory; }
   // called by the owning pair style at each init: 1 classical (peri/nospd),
   // 2 bond-associated (peri/nospd/hs).  Families and state from a restart
   // written under the other style are dropped, as a pair_style command
@@ -254,6 +260,7 @@ class FixNospdBonds : public FixPeriNeigh {
                           // 2 if the atom's type is not the style's (pair hybrid)
   double **defgrad;       // F, 9 per atom
   double **pk1;           // first Piola-Kirchhoff stress P, 9 per atom
+  double **fcarry;        // F_c, 9 per atom: the law sees F F_c (nospd_carry.h)
   double *energy_density; // stored-energy density W(F) (plus stabilization)
   bigint nsingular;       // global count of singular families
   bigint nbonds_total, nbonds_broken;
@@ -347,7 +354,12 @@ class FixNospdBonds : public FixPeriNeigh {
   bool count_bonds_pending = false;
   int pair_votes[2] = {0, 0};    // against, for, since the last setup
   bool &pair_order = fam.pair_order;    // bond lists in pair order
-  void update_shape_tensors();
+  void update_shape_tensors(bool count = true);
+  void count_singular();
+  // the refits of the families that lose bonds (nospd_carry.h): their F
+  // before, at the current positions; after, F_c or singular
+  void fits_before_change(std::vector<int> &changed, std::vector<NOSPD::Mat3> &fold);
+  void carry_refits(const std::vector<int> &changed, const std::vector<NOSPD::Mat3> &fold);
   void quadratic_fit_of(int i);
   void count_bonds();
   void report_families();

@@ -49,7 +49,7 @@ void FixNospdBonds::drop_history()
 void FixNospdBonds::layout_history(int n_atom, int n_bond)
 {
   hist.layout(n_atom, n_bond, n_bond ? maxpartner : 0, atom->nmax);
-  maxexchange = maxpartner + 22 + quadratic_record() + nhistory;
+  maxexchange = max_exchange_size();
 }
 
 /* ---------------------------------------------------------------------- */

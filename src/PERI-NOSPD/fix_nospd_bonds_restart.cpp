@@ -12,6 +12,8 @@
 #include "error.h"
 #include "neigh_list.h"
 
+#include "nospd_carry.h"
+
 #include <vector>
 
 using namespace LAMMPS_NS;
@@ -132,6 +134,7 @@ int FixNospdBonds::pack_restart(int i, double *buf)
   buf[m++] = ubuf(own_tag[i]).d;
   buf[m++] = family_type[i];
   buf[m++] = singular[i] == 1;    // a damaged family's stays (update_shape_tensors)
+  for (int k = 0; k < 9; k++) buf[m++] = fcarry[i][k];
   buf[0] = m;    // first value: size of this fix's record, as Atom expects
   return m;
 }
@@ -166,13 +169,23 @@ void FixNospdBonds::unpack_restart(int nlocal, int nth)
   family_type[nlocal] = (m < end) ? static_cast<int>(extra[nlocal][m++]) : 0;
   // and before a damaged family's singularity was kept: found anew
   if (m < end) singular[nlocal] = static_cast<int>(extra[nlocal][m++]);
+  // and before families carried F_c (nospd_carry.h): none carried
+  for (int k = 0; k < 9; k++) fcarry[nlocal][k] = (k % 4 == 0) ? 1.0 : 0.0;
+  if (m + 9 <= end) {
+    NOSPD::Mat3 Fc = NOSPD::load(&extra[nlocal][m]);
+    m += 9;
+    if (!NOSPD::carried_deformation_valid(Fc))
+      error->one(FLERR, "Fix {}: the restart file's carried deformation of atom {} is {}: the file "
+                 "is damaged", id, atom->tag[nlocal], (Fc - NOSPD::Mat3::Identity()).norm());
+    NOSPD::store(Fc, fcarry[nlocal]);
+  }
 }
 
 /* ---------------------------------------------------------------------- */
 
 int FixNospdBonds::maxsize_restart()
 {
-  return maxpartner + 9 + nhistory;
+  return maxpartner + 18 + nhistory;
 }
 
 /* ---------------------------------------------------------------------- */
@@ -182,5 +195,5 @@ int FixNospdBonds::size_restart(int nlocal)
   int n = 0;
   for (int k = 0; k < npartner[nlocal]; k++)
     if (partner[nlocal][k]) n++;
-  return n + 8 + (nhist_bond ? 1 : 0) + nhist_atom + n * nhist_bond;
+  return n + 17 + (nhist_bond ? 1 : 0) + nhist_atom + n * nhist_bond;
 }

@@ -9,6 +9,7 @@
 #include "memory.h"
 
 #include "nospd_bond_sums.h"
+#include "nospd_carry.h"
 #include "nospd_simd.h"
 #include "nospd_tensor.h"
 
@@ -40,7 +41,7 @@ void FixNospdBonds::set_model(const NospdBondModel &m)
     memory->destroy(kinv2);
     kinv2 = nullptr;
   }
-  maxexchange = maxpartner + 22 + quadratic_record() + nhistory;
+  maxexchange = max_exchange_size();
 }
 
 /* the quadratic fit operator of owned atom i's family (bond arrays current).
@@ -93,11 +94,10 @@ double FixNospdBonds::max_bond_leverage(int i, const NOSPD::Mat3 &Kinv) const
 
 /* ---------------------------------------------------------------------- */
 
-void FixNospdBonds::update_shape_tensors()
+void FixNospdBonds::update_shape_tensors(bool count)
 {
   const int nlocal = atom->nlocal;
   const int dim = model.dim;
-  int nsing_local = 0;
   const int *type = atom->type;
   for (int i = 0; i < nlocal; i++) {
     if (model.active && !model.active[type[i]]) {
@@ -148,11 +148,54 @@ void FixNospdBonds::update_shape_tensors()
       if (kinv2) quadratic_fit_of(i);
       stale[i] = 0;
     }
-    nsing_local += (singular[i] == 1);
   }
   all_stale = false;
-  bigint one = nsing_local;
+  if (count) count_singular();
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixNospdBonds::count_singular()
+{
+  bigint one = 0;
+  for (int i = 0; i < atom->nlocal; i++) one += (singular[i] == 1);
   MPI_Allreduce(&one, &nsingular, 1, MPI_LMP_BIGINT, MPI_SUM, world);
+}
+
+/* ----------------------------------------------------------------------
+   the families about to change (broken slots marked, K^-1 stale) and
+   their F at the current positions, from the bonds they still list
+------------------------------------------------------------------------- */
+
+void FixNospdBonds::fits_before_change(std::vector<int> &changed, std::vector<NOSPD::Mat3> &fold)
+{
+  NOSPD::Positions pos;
+  for (int i = 0; i < atom->nlocal; i++) {
+    if (!stale[i] || singular[i]) continue;
+    if (changed.empty()) pos = padded_positions();
+    compute_deformation(pos, nullptr, i, i + 1);
+    changed.push_back(i);
+    fold.push_back(NOSPD::load(defgrad[i]));
+  }
+}
+
+/* ----------------------------------------------------------------------
+   after the change: each family's refit at the same positions, carried in
+   F_c, or the point made singular (nospd_carry.h)
+------------------------------------------------------------------------- */
+
+void FixNospdBonds::carry_refits(const std::vector<int> &changed, const std::vector<NOSPD::Mat3> &fold)
+{
+  if (changed.empty()) return;
+  const NOSPD::Positions pos = padded_positions();
+  for (size_t c = 0; c < changed.size(); c++) {
+    const int i = changed[c];
+    if (singular[i]) continue;
+    compute_deformation(pos, nullptr, i, i + 1);
+    NOSPD::Mat3 Fc = NOSPD::load(fcarry[i]);
+    if (NOSPD::carry_deformation(fold[c], NOSPD::load(defgrad[i]), Fc)) NOSPD::store(Fc, fcarry[i]);
+    else singular[i] = 1;    // kept by conditioning_tolerance, as a damaged family's
+  }
 }
 
 /* ---------------------------------------------------------------------- */

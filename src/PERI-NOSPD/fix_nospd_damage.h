@@ -110,6 +110,7 @@ class FixNospdDamage : public Fix {
   double econtact;          // contact energy of the owned atoms, last evaluation
   bool rerun_warned = false;    // rerun's warning given
   bool fragment_warned = false;    // the bond-associated style with no stabilization term
+  bool quadratic_warned = false;   // the quadratic fit's springs with damage
   // contact: per atom, the rest distances of pairs whose bond broke while
   // they were closer than the nominal one (NOSPD::ContactMemory records)
   double **cmem = nullptr;
@@ -143,6 +144,8 @@ class FixNospdDamage : public Fix {
   int break_list(std::vector<std::pair<int, int>> &);
   void remember_contacts(const std::vector<std::pair<int, int>> &);
   void contact_forces();
+  bool bonded(int i, tagint tj) const;
+  void contact_virial(int i, double fpair, double dx, double dy, double dz, double *vsum);
   bool peratom() const { return nstate > 0 || contact; }
 };
 

@@ -51,8 +51,6 @@ void FixNospdDamage::contact_forces()
   const int *numneigh = list->numneigh;
   int **firstneigh = list->firstneigh;
   const double rc2 = contact_rc * contact_rc;
-  int *npartner = bonds->npartner;
-  tagint **partner = bonds->partner;
 
   // per thread: contacts, energy, global virial
   struct Sums {
@@ -85,15 +83,7 @@ void FixNospdDamage::contact_forces()
         const double r = sqrt(rsq);
         const int k = nmem ? ContactMemory::find(rec, (double) tag[j]) : -1;
         if (k < 0 && r >= dij) continue;
-        // bonded pairs interact through their bond
-        bool bonded = false;
-        const tagint tj = tag[j];
-        for (int n = 0; n < npartner[i]; n++)
-          if (partner[i][n] == tj) {
-            bonded = true;
-            break;
-          }
-        if (bonded) continue;
+        if (bonded(i, tag[j])) continue;    // bonded pairs interact through their bond
         const int it = type[i], jt = type[j];
         if (delta[it][jt] == 0.0) continue;    // another pair style's type
         const double d = ContactMemory::rest(rec, k, r, dij, keep);
@@ -104,15 +94,7 @@ void FixNospdDamage::contact_forces()
         f[i][1] += fpair * dy;
         f[i][2] += fpair * dz;
         e += 0.25 * kv * (r - d) * (r - d);
-        if (vflag_either) {
-          // 1/2 (x_i - x_j) (x) f_i, x_i - x_j = -(dx, dy, dz)
-          double v[6] = {-0.5 * fpair * dx * dx, -0.5 * fpair * dy * dy, -0.5 * fpair * dz * dz,
-                         -0.5 * fpair * dx * dy, -0.5 * fpair * dx * dz, -0.5 * fpair * dy * dz};
-          if (vflag_global)
-            for (int k = 0; k < 6; k++) vsum[k] += v[k];
-          if (vflag_atom)
-            for (int k = 0; k < 6; k++) vatom[i][k] += v[k];
-        }
+        if (vflag_either) contact_virial(i, fpair, dx, dy, dz, vsum);
         nc++;
       }
       if (nmem) ContactMemory::prune(rec, keep);
@@ -130,6 +112,31 @@ void FixNospdDamage::contact_forces()
   bigint all = 0;
   MPI_Allreduce(&nc, &all, 1, MPI_LMP_BIGINT, MPI_SUM, world);
   ncontact = all / 2;
+}
+
+/* ---------------------------------------------------------------------- */
+
+bool FixNospdDamage::bonded(int i, tagint tj) const
+{
+  for (int n = 0; n < bonds->npartner[i]; n++)
+    if (bonds->partner[i][n] == tj) return true;
+  return false;
+}
+
+/* ----------------------------------------------------------------------
+   the virial of one contact force on i: 1/2 (x_i - x_j) (x) f_i, with
+   x_i - x_j = -(dx, dy, dz)
+------------------------------------------------------------------------- */
+
+void FixNospdDamage::contact_virial(int i, double fpair, double dx, double dy, double dz,
+                                    double *vsum)
+{
+  const double v[6] = {-0.5 * fpair * dx * dx, -0.5 * fpair * dy * dy, -0.5 * fpair * dz * dz,
+                       -0.5 * fpair * dx * dy, -0.5 * fpair * dx * dz, -0.5 * fpair * dy * dz};
+  if (vflag_global)
+    for (int k = 0; k < 6; k++) vsum[k] += v[k];
+  if (vflag_atom)
+    for (int k = 0; k < 6; k++) vatom[i][k] += v[k];
 }
 
 /* ----------------------------------------------------------------------

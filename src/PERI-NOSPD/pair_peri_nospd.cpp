@@ -156,7 +156,9 @@ void PairPeriNospd::constitutive_range(int from, int to, int eflag, Tally &t)
     const Mat3 Ki = NOSPD::load(kinv[i]);
     Mat3 P;
     double W = 0.0;
-    point_stress(i, F, P, W, env);
+    // F_c is I until a family loses bonds (nospd_carry.h)
+    if (fix_bonds->lost_bonds(i)) carried_stress(i, F, P, W, env);
+    else point_stress(i, F, P, W, env);
     NOSPD::store(F, defgrad[i]);
     NOSPD::store(P, pk1[i]);
     const Mat3 A = P * Ki;
@@ -198,6 +200,20 @@ void PairPeriNospd::constitutive_range(int from, int to, int eflag, Tally &t)
       tally_energy(i, e, t);
     }
   }
+}
+
+/* ----------------------------------------------------------------------
+   P and W of owned atom i whose family lost bonds: the law sees F F_c, its stress
+   acts as P F_c^T (nospd_carry.h); F_c is planar in 2D, so F33 is the law's
+------------------------------------------------------------------------- */
+
+void PairPeriNospd::carried_stress(int i, Mat3 &F, Mat3 &P, double &W, const NOSPD::PointEnv &env)
+{
+  const Mat3 Fc = NOSPD::load(fix_bonds->fcarry[i]);
+  Mat3 Fe = F * Fc;
+  point_stress(i, Fe, P, W, env);
+  if (domain->dimension == 2) F(2, 2) = Fe(2, 2);
+  P = P * Fc.transpose();
 }
 
 /* ----------------------------------------------------------------------

@@ -31,6 +31,7 @@ class PairPeriNospd : public PairPeriNospdBase {
   void constitutive_pass(int eflag);
   void constitutive_range(int from, int to, int eflag, Tally &t);
   void point_stress(int i, NOSPD::Mat3 &F, NOSPD::Mat3 &P, double &W, const NOSPD::PointEnv &env);
+  void carried_stress(int i, NOSPD::Mat3 &F, NOSPD::Mat3 &P, double &W, const NOSPD::PointEnv &env);
   void quadratic_pass();
   void quadratic_spring(int i, const NOSPD::Mat3 &H, NOSPD::Mat3 &H2, double &e2, bool energy);
 };

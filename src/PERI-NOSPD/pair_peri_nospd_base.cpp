@@ -146,6 +146,7 @@ void PairPeriNospdBase::settings(int narg, char **arg)
   singular_tol = 1.0e-4;
   damaged_tol = 0.1;
   damaged_leverage = 0.5;
+  damaged_refit = false;
   temperature_kind = TEMP_NONE;
   temperature_name.clear();
   SettingsGiven given;
@@ -225,7 +226,8 @@ int PairPeriNospdBase::model_keyword(const std::string &cmd, int narg, char **ar
 
 /* ----------------------------------------------------------------------
    one keyword of the geometry, tolerances and temperature (plane,
-   thickness, singular_tol, damaged_tol, damaged_leverage, temperature):
+   thickness, singular_tol, damaged_tol, damaged_leverage, damaged_state,
+   temperature):
    the index after its values, -1 if the keyword is not one of these
 ------------------------------------------------------------------------- */
 
@@ -265,6 +267,14 @@ int PairPeriNospdBase::geometry_keyword(const std::string &cmd, int narg, char *
       error->all(FLERR, "{}: damaged_leverage must be in (0,1] (1: no limit), got {}", cmd,
                  arg[iarg + 1]);
     iarg += 2;
+  } else if (key == "damaged_state") {
+    need(1);
+    const std::string v = arg[iarg + 1];
+    if (v == "carry") damaged_refit = false;
+    else if (v == "refit") damaged_refit = true;
+    else error->all(FLERR, "{}: damaged_state takes carry or refit, got '{}'", cmd, v);
+    given.state = true;
+    iarg += 2;
   } else if (key == "temperature") {
     need(1);
     const std::string v = arg[iarg + 1];
@@ -300,6 +310,9 @@ void PairPeriNospdBase::check_settings(const std::string &cmd, const SettingsGiv
                "is held to at least the intact families' tolerance", cmd, damaged_tol,
                singular_tol);
   damaged_tol = std::max(damaged_tol, singular_tol);
+  if (given.state && bond_associated())
+    error->all(FLERR, "{}: damaged_state is a keyword of pair_style peri/nospd (the point's F "
+               "F_c); the bond-associated style refits its bonds' families", cmd);
   if (fit_quadratic && stab != Stab::SILLING)
     error->all(FLERR, "{}: stabilization/fit quadratic applies to stabilization silling (its "
                "springs), not to stabilization {}", cmd,
@@ -603,6 +616,7 @@ void PairPeriNospdBase::write_restart_settings(FILE *fp)
                static_cast<int>(stab), influence};
   // the quadratic fit in a bit of its own: files without it read as before
   if (fit_quadratic) iv[2] |= 32;
+  if (damaged_refit) iv[2] |= 64;
   double dv[5] = {stab_param, thickness, singular_tol, damaged_tol, damaged_leverage};
   fwrite(iv, sizeof(int), 4, fp);
   fwrite(dv, sizeof(double), 5, fp);
@@ -644,6 +658,7 @@ void PairPeriNospdBase::read_restart_settings(FILE *fp)
   plane_mode = static_cast<Plane>(iv[1]);
   stab = static_cast<Stab>(iv[2] & 31);
   fit_quadratic = (iv[2] & 32) != 0;
+  damaged_refit = (iv[2] & 64) != 0;
   influence = iv[3];
   stab_param = dv[0];
   thickness = dv[1];

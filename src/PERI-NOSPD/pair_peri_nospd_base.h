@@ -64,7 +64,11 @@ class PairPeriNospdBase : public Pair {
   // a type this style owns (under pair hybrid others may belong to other styles)
   bool owns_type(int itype) const { return active[itype] != 0; }
   int stabilization_kind() const { return static_cast<int>(stab); }
+  // Silling's springs on the quadratic fit (stabilization/fit quadratic)
+  bool quadratic_active() const { return fit_quadratic && stab == NOSPD::Stab::SILLING; }
   bool bond_associated() const { return family_kind() == 2; }
+  // the classical law sees F F_c of a family that lost bonds (nospd_carry.h)
+  bool carries_deformation() const { return !bond_associated() && !damaged_refit; }
   // built-in inelastic materials (history kept by the bonds fix)
   bool has_history(int itype) const { return inelastic[itype] == POINT_PLASTIC; }
   // a type with history that the bond-associated style runs per bond through
@@ -100,6 +104,7 @@ class PairPeriNospdBase : public Pair {
   double singular_tol;    // conditioning below which a family's K is singular
   double damaged_tol;     // the same for a family that lost bonds
   double damaged_leverage;    // largest bond leverage a family that lost bonds may keep
+  bool damaged_refit = false;    // damaged_state refit: no carried F_c (nospd_carry.h)
 
   // per type
   double *youngs, *poisson, *g0;
@@ -143,7 +148,6 @@ class PairPeriNospdBase : public Pair {
   std::string zem_control() const;
   void warn_plastic_flow(const std::string &cmd);
   bool plastic_flow_warned = false;
-  bool quadratic_active() const { return fit_quadratic && stab == NOSPD::Stab::SILLING; }
   static constexpr int STAB_SCALAR = 9;    // its place in bmat
   NOSPD::Positions positions{};    // this step's padded positions (pass 1 and 2)
   static void store_transposed(const NOSPD::Mat3 &M, double *to)
@@ -255,7 +259,7 @@ class PairPeriNospdBase : public Pair {
                       const NOSPD::DruckerPrager &dp, const std::string &where) const;
   // the steps of settings: which keywords were given, the keywords, the checks
   struct SettingsGiven {
-    bool plane = false, thickness = false, singular = false, damaged = false;
+    bool plane = false, thickness = false, singular = false, damaged = false, state = false;
   };
   int model_keyword(const std::string &cmd, int narg, char **arg, int iarg);
   int geometry_keyword(const std::string &cmd, int narg, char **arg, int iarg,

@@ -261,6 +261,7 @@ void PairPeriNospdBase::configure_bonds_fix(int history_size)
   model.active = active.data();
   model.thickness = thickness;
   model.quadratic = quadratic_active();
+  model.carry = carries_deformation();
   for (int i = 1; i <= atom->ntypes; i++)
     if (active[i] && youngs[i] > 0.0)
       check_poisson(fmt::format("pair_style {} (type {}'s material)", force->pair_style, i),

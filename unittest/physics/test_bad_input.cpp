@@ -442,6 +442,17 @@ TEST_F(BadInput, DamagedLeverageOutOfRange)
               HasSubstr("damaged_leverage"));
 }
 
+TEST_F(BadInput, DamagedStateValueAndStyle)
+{
+  deck();
+  EXPECT_THAT(error_of(lmp, "pair_style peri/nospd damaged_state keep"),
+              HasSubstr("damaged_state takes carry or refit, got 'keep'"));
+  EXPECT_THAT(error_of(lmp, "pair_style peri/nospd damaged_state"),
+              HasSubstr("keyword damaged_state needs 1 value(s)"));
+  EXPECT_THAT(error_of(lmp, "pair_style peri/nospd/hs damaged_state refit"),
+              HasSubstr("damaged_state is a keyword of pair_style peri/nospd"));
+}
+
 /* A pair_style command naming the style already in place calls settings()
    on the same instance (LAMMPS keeps it): every keyword the new line does
    not give must take its default again, so that the line means what it

@@ -22,6 +22,21 @@ class Warnings : public ::testing::Test {
   void SetUp() override { lmp = open_lammps(); }
   void TearDown() override { delete lmp; }
 
+  // a 6^3 block of the style and settings under fix nospd/damage: the log
+  // of two runs (a warning given once shows once)
+  std::string damage_log(const std::string &style, const std::string &settings)
+  {
+    delete lmp;
+    lmp = open_lammps();
+    Block blk;
+    blk.n = 6;
+    blk.style = style;
+    blk.settings = settings;
+    make_block(lmp, blk);
+    cmd(lmp, "fix d all nospd/damage stretch 0.01");
+    return log_of(lmp, {"run 0", "run 0"});
+  }
+
   // a 9^3 block with the displacement field (ux, uy, uz) as atom-style
   // formulas of i, j, k (the lattice indices), held where it is
   void block_with_field(const std::string &settings, const std::string &ux,
@@ -99,16 +114,23 @@ TEST_F(Warnings, BondAssociatedDamageWithoutStabilizationWarns)
 {
   const std::string said = "without a stabilization term lets damaged families run away";
   for (const std::string settings : {"", "stabilization silling 0.5"}) {
-    delete lmp;
-    lmp = open_lammps();
-    Block blk;
-    blk.n = 6;
-    blk.style = "peri/nospd/hs";
-    blk.settings = settings;
-    make_block(lmp, blk);
-    cmd(lmp, "fix d all nospd/damage stretch 0.01");
-    const auto text = log_of(lmp, {"run 0", "run 0"});
+    const auto text = damage_log("peri/nospd/hs", settings);
     EXPECT_EQ(text.find(said) != std::string::npos, settings.empty()) << settings;
+    EXPECT_EQ(text.find(said), text.rfind(said));
+  }
+}
+
+/* Damage with Silling's springs on the quadratic fit: a family that loses
+   bonds falls back to the linear fit, whose springs start loaded (energy
+   created, doc pair_peri_nospd): one warning; none on the linear fit. */
+TEST_F(Warnings, QuadraticFitWithDamageWarns)
+{
+  const std::string said = "falls back to the linear fit, whose springs start loaded";
+  for (const std::string settings :
+       {"stabilization silling 0.05 stabilization/fit quadratic", "stabilization silling 0.05"}) {
+    const auto text = damage_log("peri/nospd", settings);
+    EXPECT_EQ(text.find(said) != std::string::npos, settings.find("quadratic") != std::string::npos)
+        << settings;
     EXPECT_EQ(text.find(said), text.rfind(said));
   }
 }
