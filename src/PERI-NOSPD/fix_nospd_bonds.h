@@ -171,6 +171,14 @@ class FixNospdBonds : public FixPeriNeigh {
   // Call bonds_changed() once after a batch of breaks on all ranks.
   void break_bond(int i, int slot);
   void bonds_changed();
+  // bonds (pairs) broken past the ghost cutoff at rebuilds since the last
+  // call, for the damage fix's count (settle_far_bonds)
+  bigint take_far_broken()
+  {
+    const bigint n = far_broken;
+    far_broken = 0;
+    return n;
+  }
 
   // Inelastic history (nospd_plasticity.h), n values per atom: `history`
   // holds the state of the last accepted step, `history_trial` what the
@@ -329,6 +337,7 @@ class FixNospdBonds : public FixPeriNeigh {
   void resolve_missing(const std::vector<MissingPartner> &missing, std::vector<FarBond> &far);
   void settle_far_bonds(const std::vector<FarBond> &far);
   bool far_warned = false;
+  bigint far_broken = 0;
   int partner_index(tagint t) const;
   void follow_renumbered_tags();
   void warn_vanished(bigint nbroken);

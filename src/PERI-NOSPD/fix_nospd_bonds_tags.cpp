@@ -219,6 +219,7 @@ void FixNospdBonds::settle_far_bonds(const std::vector<FarBond> &far)
     stale[f.i] = 1;
   }
   count_bonds_pending = true;
+  far_broken += anyfar / 2;
   if (comm->me == 0 && !far_warned)
     error->warning(FLERR, "Fix {}: {} bond ends stretched beyond the ghost cutoff {:.4g} broke "
                    "(with a damage fix such bonds break on any rank count; reported once)",

@@ -417,6 +417,7 @@ void FixNospdDamage::setup(int vflag)
 void FixNospdDamage::pre_force(int /*vflag*/)
 {
   nbroken_step = 0;
+  nbroken_total += bonds->take_far_broken();    // at a rebuild of the ghosts
   if (criterion != NONE && update->ntimestep % nevery == 0) evaluate_and_break();
 }
 
@@ -562,6 +563,11 @@ void FixNospdDamage::unpack_forward_comm(int n, int first, double *buf)
 void FixNospdDamage::evaluate_and_break(bool apply)
 {
   fill_comm_data();
+  // a bond longer than the ghost cutoff breaks in the step that takes it
+  // there, whatever the criterion and whenever the ghosts are rebuilt (so
+  // that a run split by a restart breaks it in the same step)
+  const double rc = comm->get_comm_cutoff();
+  far2 = rc * rc;
   std::vector<std::pair<int, int>> cut;
   switch (criterion) {
     case STRETCH:
@@ -624,8 +630,13 @@ std::vector<std::pair<int, int>> FixNospdDamage::scan_bonds(const Crit &crit_of,
         bond_geometry(x0[a], x0[c], cdata[a], cdata[c], periodic, xi, U, Y);
         NOSPD::BondView v{xi, U, Y, 0.0, 0.0, 0.0, cdata[a] + 4, cdata[c] + 4,
                           delta[type[a]][type[c]]};
+        const double ry2 = Y[0] * Y[0] + Y[1] * Y[1] + Y[2] * Y[2];
+        if (ry2 > far2 && (apply || !Crit::TRACKS_SMIN)) {
+          cut.emplace_back(i, bslot[b]);
+          continue;
+        }
         v.rxi = sqrt(xi[0] * xi[0] + xi[1] * xi[1] + xi[2] * xi[2]);
-        v.ry = sqrt(Y[0] * Y[0] + Y[1] * Y[1] + Y[2] * Y[2]);
+        v.ry = sqrt(ry2);
         v.s = (v.ry - v.rxi) / v.rxi;
         double limit = crit[type[a]][type[c]], val = 0.0;
         if (scatter_width > 0.0)
@@ -712,7 +723,7 @@ void FixNospdDamage::stretch_cuts(std::vector<std::pair<int, int>> &cut)
                                          NOSPD::position_key(x0[j]), scatter_width);
         // s >= s_c  <=>  |Y|^2 >= (1 + s_c)^2 |xi|^2, without square roots
         const double f = 1.0 + limit;
-        if (ry2 >= f * f * rxi2 || std::isnan(ry2)) mine.emplace_back(i, bslot[b]);
+        if (ry2 >= f * f * rxi2 || ry2 > far2 || std::isnan(ry2)) mine.emplace_back(i, bslot[b]);
       }
     }
   });

@@ -108,6 +108,7 @@ class FixNospdDamage : public Fix {
   bigint nbroken_step;      // bonds broken at the last evaluation
   bigint ncontact;          // pairs in contact at the last force evaluation
   double econtact;          // contact energy of the owned atoms, last evaluation
+  double far2 = 0.0;        // the ghost cutoff squared, at the last evaluation
   bool rerun_warned = false;    // rerun's warning given
   bool fragment_warned = false;    // the bond-associated style with no stabilization term
   bool quadratic_warned = false;   // the quadratic fit's springs with damage
