@@ -169,6 +169,7 @@ void FixNospdBonds::count_singular()
 
 void FixNospdBonds::fits_before_change(std::vector<int> &changed, std::vector<NOSPD::Mat3> &fold)
 {
+  if (all_stale) return;    // no K^-1 yet (pre-cracks at the first setup): nothing to carry
   NOSPD::Positions pos;
   for (int i = 0; i < atom->nlocal; i++) {
     if (!stale[i] || singular[i]) continue;

@@ -251,9 +251,15 @@ void FixNospdDamage::init()
   if (comm->me == 0 && !quadratic_warned && criterion != NONE && pair->quadratic_active())
     error->warning(FLERR, "{} {}: with stabilization/fit quadratic a family that loses bonds "
                    "falls back to the linear fit, whose springs start loaded: breaking bonds "
-                   "adds energy (measured: 2-6.5 % of the dissipated in a ductile perforation); "
+                   "adds energy (measured: 2-25 % of the dissipated in a ductile perforation); "
                    "for fracture keep the linear fit (doc pair_peri_nospd, \"Families that lose "
                    "bonds\")", cmd, id);
+  if (comm->me == 0 && !quadratic_warned && criterion != NONE &&
+      pair->stabilization_kind() == static_cast<int>(NOSPD::Stab::WAN))
+    error->warning(FLERR, "{} {}: stabilization wan's springs follow K^-1, which grows when a "
+                   "family loses bonds: breaking bonds adds energy (measured: 23 % of the "
+                   "dissipated in a ductile perforation); for fracture use stabilization silling "
+                   "(doc pair_peri_nospd, \"Families that lose bonds\")", cmd, id);
   quadratic_warned = true;
   if (criterion == EQPS || criterion == JC_DAMAGE) {
     bool any = false;

@@ -111,7 +111,7 @@ class FixNospdDamage : public Fix {
   double far2 = 0.0;        // the ghost cutoff squared, at the last evaluation
   bool rerun_warned = false;    // rerun's warning given
   bool fragment_warned = false;    // the bond-associated style with no stabilization term
-  bool quadratic_warned = false;   // the quadratic fit's springs with damage
+  bool quadratic_warned = false;   // the quadratic fit's or Wan's springs with damage
   // contact: per atom, the rest distances of pairs whose bond broke while
   // they were closer than the nominal one (NOSPD::ContactMemory records)
   double **cmem = nullptr;

@@ -120,18 +120,23 @@ TEST_F(Warnings, BondAssociatedDamageWithoutStabilizationWarns)
   }
 }
 
-/* Damage with Silling's springs on the quadratic fit: a family that loses
-   bonds falls back to the linear fit, whose springs start loaded (energy
-   created, doc pair_peri_nospd): one warning; none on the linear fit. */
-TEST_F(Warnings, QuadraticFitWithDamageWarns)
+/* Damage with springs that start loaded when a family loses bonds: on
+   the quadratic fit (a damaged family falls back to the linear fit) and
+   Wan's (stiffness from K^-1): one warning each; none on Silling's linear
+   fit (doc pair_peri_nospd, "Families that lose bonds"). */
+TEST_F(Warnings, LoadedSpringsWithDamageWarn)
 {
-  const std::string said = "falls back to the linear fit, whose springs start loaded";
-  for (const std::string settings :
-       {"stabilization silling 0.05 stabilization/fit quadratic", "stabilization silling 0.05"}) {
+  const std::string quad = "falls back to the linear fit, whose springs start loaded";
+  const std::string wan = "stabilization wan's springs follow K^-1";
+  for (const std::string settings : {"stabilization silling 0.05 stabilization/fit quadratic",
+                                     "stabilization wan", "stabilization silling 0.05"}) {
     const auto text = damage_log("peri/nospd", settings);
-    EXPECT_EQ(text.find(said) != std::string::npos, settings.find("quadratic") != std::string::npos)
+    EXPECT_EQ(text.find(quad) != std::string::npos, settings.find("quadratic") != std::string::npos)
         << settings;
-    EXPECT_EQ(text.find(said), text.rfind(said));
+    EXPECT_EQ(text.find(wan) != std::string::npos, settings.find("wan") != std::string::npos)
+        << settings;
+    EXPECT_EQ(text.find(quad), text.rfind(quad));
+    EXPECT_EQ(text.find(wan), text.rfind(wan));
   }
 }
 
