@@ -112,7 +112,7 @@ void FixNospdBonds::clear_atom(int i)
   for (int k = 0; k < 9; k++) kinv[i][k] = defgrad[i][k] = pk1[i][k] = 0.0;
   for (int k = 0; k < 9; k++) fcarry[i][k] = (k % 4 == 0) ? 1.0 : 0.0;
   if (kinv2)
-    for (int k = 0; k < NOSPD::QuadraticFit::RECORD; k++) kinv2[i][k] = 0.0;
+    for (int k = 0; k < NOSPD::CarriedQuadratic::ATOM_RECORD; k++) kinv2[i][k] = 0.0;
   for (int k = 0; k < 3; k++) xi_moment[i][k] = u_moment[i][k] = 0.0;
   energy_density[i] = 0.0;
   own_tag[i] = 0;
@@ -589,15 +589,15 @@ void FixNospdBonds::bonds_changed()
   // reneighboring: drop the broken entries in place rather than look every
   // partner up again (same arrays, same order, as a rebuild would give)
   std::vector<int> changed;
-  std::vector<NOSPD::Mat3> fold;
+  std::vector<Before> before;
   const bool carry = model.carry && nbond_atoms == atom->nlocal;
-  if (carry) fits_before_change(changed, fold);
+  if (carry) fits_before_change(changed, before);
   if (nbond_atoms == atom->nlocal)
     fam.compact([this](int i, int slot) { return partner[i][slot] == 0; });
   else build_bond_arrays();
   update_shape_tensors(!carry);
   if (carry) {
-    carry_refits(changed, fold);
+    carry_refits(changed, before);
     count_singular();
   }
   count_bonds();
@@ -641,7 +641,7 @@ void FixNospdBonds::grow_arrays(int nmax)
   memory->grow(vinter, nmax, "nospd/bonds:vinter");
   memory->grow(wvolume, nmax, "nospd/bonds:wvolume");
   memory->grow(kinv, nmax, 9, "nospd/bonds:kinv");
-  if (model.quadratic) memory->grow(kinv2, nmax, NOSPD::QuadraticFit::RECORD, "nospd/bonds:kinv2");
+  if (model.quadratic) memory->grow(kinv2, nmax, NOSPD::CarriedQuadratic::ATOM_RECORD, "nospd/bonds:kinv2");
   memory->grow(xi_moment, nmax, 3, "nospd/bonds:xi_moment");
   memory->grow(u_moment, nmax, 3, "nospd/bonds:u_moment");
   memory->grow(family_size, nmax, "nospd/bonds:family_size");
@@ -693,7 +693,7 @@ void FixNospdBonds::copy_arrays(int i, int j, int /*delflag*/)
     u_moment[j][k] = u_moment[i][k];
   }
   if (kinv2)
-    for (int k = 0; k < NOSPD::QuadraticFit::RECORD; k++) kinv2[j][k] = kinv2[i][k];
+    for (int k = 0; k < NOSPD::CarriedQuadratic::ATOM_RECORD; k++) kinv2[j][k] = kinv2[i][k];
   family_size[j] = family_size[i];
   singular[j] = singular[i];
   stale[j] = stale[i];
@@ -722,7 +722,7 @@ int FixNospdBonds::pack_exchange(int i, double *buf)
   for (int k = 0; k < 9; k++) buf[m++] = kinv[i][k];
   for (int k = 0; k < 9; k++) buf[m++] = fcarry[i][k];
   if (kinv2)
-    for (int k = 0; k < NOSPD::QuadraticFit::RECORD; k++) buf[m++] = kinv2[i][k];
+    for (int k = 0; k < NOSPD::CarriedQuadratic::ATOM_RECORD; k++) buf[m++] = kinv2[i][k];
   for (int k = 0; k < 3; k++) buf[m++] = xi_moment[i][k];
   buf[m++] = ubuf(own_tag[i]).d;
   buf[m++] = family_type[i];
@@ -745,7 +745,7 @@ int FixNospdBonds::unpack_exchange(int nlocal, double *buf)
   for (int k = 0; k < 9; k++) kinv[nlocal][k] = buf[m++];
   for (int k = 0; k < 9; k++) fcarry[nlocal][k] = buf[m++];
   if (kinv2)
-    for (int k = 0; k < NOSPD::QuadraticFit::RECORD; k++) kinv2[nlocal][k] = buf[m++];
+    for (int k = 0; k < NOSPD::CarriedQuadratic::ATOM_RECORD; k++) kinv2[nlocal][k] = buf[m++];
   for (int k = 0; k < 3; k++) xi_moment[nlocal][k] = buf[m++];
   own_tag[nlocal] = (tagint) ubuf(buf[m++]).i;
   family_type[nlocal] = static_cast<int>(buf[m++]);

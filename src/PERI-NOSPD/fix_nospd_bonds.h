@@ -15,6 +15,7 @@ FixStyle(PERI_NEIGH/NOSPD,FixNospdBonds);
 #include "nospd_family_store.h"
 #include "nospd_history_store.h"
 #include "nospd_reference_box.h"
+#include "nospd_quadratic_carry.h"
 #include "nospd_stabilization.h"
 #include "nospd_stable_step.h"
 
@@ -117,7 +118,7 @@ class FixNospdBonds : public FixPeriNeigh {
 
   void set_model(const NospdBondModel &m);
   // doubles per atom of the quadratic fit operators (0 unless model.quadratic)
-  int quadratic_record() const { return kinv2 ? NOSPD::QuadraticFit::RECORD : 0; }
+  int quadratic_record() const { return kinv2 ? NOSPD::CarriedQuadratic::ATOM_RECORD : 0; }
   // the largest migration record (pack_exchange): partners, 4 flags and
   // sums, K^-1, F_c, the moments, ID and type, and the count
   int max_exchange_size() const { return maxpartner + 31 + quadratic_record() + nhistory; }
@@ -259,8 +260,9 @@ class FixNospdBonds : public FixPeriNeigh {
   void bond_vector(int i, int b, double *xi) const;
   double **x0s;           // x0 in the periodic image of x, owned + ghost
   double **kinv;          // K^-1, 9 per atom, row-major; zero if singular
-  double **kinv2;         // the quadratic fit's K2^-1 and its flag (model.quadratic
-                          // only: nospd_stabilization.h, QuadraticFit::RECORD per atom)
+  double **kinv2;         // the quadratic fit's K2^-1 and its flag, or a damaged family's
+                          // carried record, then G (model.quadratic only:
+                          // nospd_quadratic_carry.h, CarriedQuadratic::ATOM_RECORD per atom)
   double **xi_moment;     // sum_j w xi (reference; zero inside a regular grid)
   double **u_moment;      // sum_j w U, filled by pass 1
   int *family_size;       // bonds at the first build, broken ones included
@@ -367,8 +369,14 @@ class FixNospdBonds : public FixPeriNeigh {
   void count_singular();
   // the refits of the families that lose bonds (nospd_carry.h): their F
   // before, at the current positions; after, F_c or singular
-  void fits_before_change(std::vector<int> &changed, std::vector<NOSPD::Mat3> &fold);
-  void carry_refits(const std::vector<int> &changed, const std::vector<NOSPD::Mat3> &fold);
+  // (and, with the quadratic fit, the F F_c and the fit's curvature Q_s before)
+  struct Before {
+    NOSPD::Mat3 F, FFc;
+    NOSPD::Mat36 Qs;
+    bool curved;    // Q_s from an intact family's quadratic fit: G starts from it
+  };
+  void fits_before_change(std::vector<int> &changed, std::vector<Before> &before);
+  void carry_refits(const std::vector<int> &changed, const std::vector<Before> &before);
   void quadratic_fit_of(int i);
   void count_bonds();
   void report_families();

@@ -14,12 +14,14 @@
 
 #include "nospd_carry.h"
 
+#include <cmath>
 #include <vector>
 
 using namespace LAMMPS_NS;
 
 static constexpr int RESTART_V2 = 10;
 static constexpr int RESTART_V3 = 20;
+static constexpr int RESTART_V4 = 30;    // and whether atoms carry quadratic curvatures
 
 /* ----------------------------------------------------------------------
    global restart data: FixPeriNeigh's two values, the reference box, and
@@ -30,14 +32,16 @@ static constexpr int RESTART_V3 = 20;
 
 void FixNospdBonds::write_restart(FILE *fp)
 {
-  // list[0] is `first` plus RESTART_V3 (V2 files hold seven values, older six)
-  std::vector<double> list = {(double) (first + RESTART_V3), (double) maxpartner,
+  // list[0] is `first` plus RESTART_V4 (V3 files end before the curvature
+  // flag, V2 files hold seven values, older six)
+  std::vector<double> list = {(double) (first + RESTART_V4), (double) maxpartner,
                               (double) ref_box.set, ref_box.ref[0], ref_box.ref[1], ref_box.ref[2],
                               (double) nbonds_vanished, ref_box.ref[3], ref_box.ref[4], ref_box.ref[5],
                               (double) built_periodic, (double) style_kind,
                               (double) family_horizon.size(), (double) history_law.size()};
   list.insert(list.end(), family_horizon.begin(), family_horizon.end());
   list.insert(list.end(), history_law.begin(), history_law.end());
+  list.push_back(kinv2 ? 1.0 : 0.0);
   if (comm->me == 0) {
     int size = list.size() * sizeof(double);
     fwrite(&size, sizeof(int), 1, fp);
@@ -66,6 +70,9 @@ void FixNospdBonds::restart(char *buf)
     const int nh = static_cast<int>(list[12]), nl = static_cast<int>(list[13]);
     family_horizon.assign(list + 14, list + 14 + nh);
     history_law.assign(list + 14 + nh, list + 14 + nh + nl);
+    // the quadratic fit's arrays, to receive the curvatures the atoms carry
+    // (nospd_quadratic_carry.h); the pair's set_model keeps or drops them
+    if (head >= RESTART_V4 && list[14 + nh + nl] != 0.0) model.quadratic = true;
   }
   if (nhist_bond) layout_history(nhist_atom, nhist_bond);
   // partner arrays are 2D: size them now, before the per-atom data arrive
@@ -135,6 +142,10 @@ int FixNospdBonds::pack_restart(int i, double *buf)
   buf[m++] = family_type[i];
   buf[m++] = singular[i] == 1;    // a damaged family's stays (update_shape_tensors)
   for (int k = 0; k < 9; k++) buf[m++] = fcarry[i][k];
+  buf[m++] = kinv2 ? NOSPD::CarriedQuadratic::G_SIZE : 0;
+  if (kinv2)
+    for (int k = 0; k < NOSPD::CarriedQuadratic::G_SIZE; k++)
+      buf[m++] = kinv2[i][NOSPD::CarriedQuadratic::G_AT + k];
   buf[0] = m;    // first value: size of this fix's record, as Atom expects
   return m;
 }
@@ -179,13 +190,28 @@ void FixNospdBonds::unpack_restart(int nlocal, int nth)
                  "is damaged", id, atom->tag[nlocal], (Fc - NOSPD::Mat3::Identity()).norm());
     NOSPD::store(Fc, fcarry[nlocal]);
   }
+  // and before families carried quadratic curvatures: none carried
+  if (kinv2)
+    for (int k = 0; k < NOSPD::CarriedQuadratic::ATOM_RECORD; k++) kinv2[nlocal][k] = 0.0;
+  const int ng = (m < end) ? static_cast<int>(extra[nlocal][m++]) : 0;
+  if (ng != 0 && ng != NOSPD::CarriedQuadratic::G_SIZE)
+    error->one(FLERR, "Fix {}: the restart file's record of atom {} holds {} curvature values "
+               "(expected 0 or {}): the file is damaged", id, atom->tag[nlocal], ng,
+               NOSPD::CarriedQuadratic::G_SIZE);
+  for (int k = 0; k < ng; k++) {
+    const double g = extra[nlocal][m++];
+    if (!std::isfinite(g))
+      error->one(FLERR, "Fix {}: the restart file's carried curvature of atom {} is {}: the "
+                 "file is damaged", id, atom->tag[nlocal], g);
+    if (kinv2) kinv2[nlocal][NOSPD::CarriedQuadratic::G_AT + k] = g;
+  }
 }
 
 /* ---------------------------------------------------------------------- */
 
 int FixNospdBonds::maxsize_restart()
 {
-  return maxpartner + 18 + nhistory;
+  return maxpartner + 19 + NOSPD::CarriedQuadratic::G_SIZE + nhistory;
 }
 
 /* ---------------------------------------------------------------------- */
@@ -195,5 +221,6 @@ int FixNospdBonds::size_restart(int nlocal)
   int n = 0;
   for (int k = 0; k < npartner[nlocal]; k++)
     if (partner[nlocal][k]) n++;
-  return n + 17 + (nhist_bond ? 1 : 0) + nhist_atom + n * nhist_bond;
+  return n + 18 + (kinv2 ? NOSPD::CarriedQuadratic::G_SIZE : 0) + (nhist_bond ? 1 : 0) +
+      nhist_atom + n * nhist_bond;
 }

@@ -27,15 +27,15 @@ using namespace LAMMPS_NS;
 
 void FixNospdBonds::set_model(const NospdBondModel &m)
 {
-  const bool had = model.quadratic;
+  const bool had = kinv2 != nullptr;    // (a restart's curvatures may be there already)
   model = m;
   if (model.quadratic == had) return;
   // the fit operators come and go with the setting: computed for every
   // family at the next rebuild of the shape tensors
   if (model.quadratic) {
-    memory->grow(kinv2, atom->nmax, NOSPD::QuadraticFit::RECORD, "nospd/bonds:kinv2");
+    memory->grow(kinv2, atom->nmax, NOSPD::CarriedQuadratic::ATOM_RECORD, "nospd/bonds:kinv2");
     for (int i = 0; i < atom->nmax; i++)
-      for (int k = 0; k < NOSPD::QuadraticFit::RECORD; k++) kinv2[i][k] = 0.0;
+      for (int k = 0; k < NOSPD::CarriedQuadratic::ATOM_RECORD; k++) kinv2[i][k] = 0.0;
     all_stale = true;
   } else {
     memory->destroy(kinv2);
@@ -45,13 +45,17 @@ void FixNospdBonds::set_model(const NospdBondModel &m)
 }
 
 /* the quadratic fit operator of owned atom i's family (bond arrays current).
-   A family that has lost bonds keeps the linear fit: around a crack the
-   partners left fit a quadratic poorly (a one-sided, ragged family), its
+   A family that has lost bonds fits no quadratic: around a crack the
+   partners left fit one poorly (a one-sided, ragged family), its
    coefficients grow large, and the springs then stiffen instead of
-   stabilize (the projectile scene ran away with them). */
+   stabilize (the projectile scene ran away with them).  With the carried
+   deformation it keeps the curvature of its last intact fit
+   (nospd_quadratic_carry.h, G set by carry_refits); without, the linear
+   fit's springs. */
 void FixNospdBonds::quadratic_fit_of(int i)
 {
-  if (bond_first[i + 1] - bond_first[i] < family_size[i]) {
+  const bool damaged = bond_first[i + 1] - bond_first[i] < family_size[i];
+  if (damaged && !model.carry) {
     for (int k = 0; k < NOSPD::QuadraticFit::RECORD; k++) kinv2[i][k] = 0.0;
     return;
   }
@@ -64,7 +68,8 @@ void FixNospdBonds::quadratic_fit_of(int i)
     const Eigen::Map<const Eigen::Matrix<double, 9, 1>> p(phi);
     K2.noalias() += bond_w[b] * p * p.transpose();
   }
-  NOSPD::quadratic_fit_inverse(K2, kinv2[i]);
+  if (damaged) NOSPD::carried_quadratic_record(K2, NOSPD::load(kinv[i]), kinv2[i]);
+  else NOSPD::quadratic_fit_inverse(K2, kinv2[i]);
 }
 
 /* ----------------------------------------------------------------------
@@ -167,7 +172,7 @@ void FixNospdBonds::count_singular()
    their F at the current positions, from the bonds they still list
 ------------------------------------------------------------------------- */
 
-void FixNospdBonds::fits_before_change(std::vector<int> &changed, std::vector<NOSPD::Mat3> &fold)
+void FixNospdBonds::fits_before_change(std::vector<int> &changed, std::vector<Before> &before)
 {
   if (all_stale) return;    // no K^-1 yet (pre-cracks at the first setup): nothing to carry
   NOSPD::Positions pos;
@@ -176,16 +181,28 @@ void FixNospdBonds::fits_before_change(std::vector<int> &changed, std::vector<NO
     if (changed.empty()) pos = padded_positions();
     compute_deformation(pos, nullptr, i, i + 1);
     changed.push_back(i);
-    fold.push_back(NOSPD::load(defgrad[i]));
+    Before b;
+    b.F = NOSPD::load(defgrad[i]);
+    b.FFc = b.F * NOSPD::load(fcarry[i]);
+    b.curved = kinv2 && kinv2[i][NOSPD::QuadraticFit::PACKED] == 1.0;
+    if (b.curved) {
+      double sums[NOSPD::QSUMS];
+      NOSPD::quadratic_sums(pos, {bond_j, bond_w, bond_first[i], bond_first[i + 1]}, i, sums);
+      const Eigen::Map<const Eigen::Matrix<double, 3, 9>> N2(sums);
+      b.Qs = NOSPD::quadratic_fit(N2, kinv2[i]).rightCols<6>();
+    }
+    before.push_back(b);
   }
 }
 
 /* ----------------------------------------------------------------------
    after the change: each family's refit at the same positions, carried in
-   F_c, or the point made singular (nospd_carry.h)
+   F_c, or the point made singular (nospd_carry.h); a family that loses its
+   first bonds under the quadratic fit starts carrying its curvature
+   (nospd_quadratic_carry.h)
 ------------------------------------------------------------------------- */
 
-void FixNospdBonds::carry_refits(const std::vector<int> &changed, const std::vector<NOSPD::Mat3> &fold)
+void FixNospdBonds::carry_refits(const std::vector<int> &changed, const std::vector<Before> &before)
 {
   if (changed.empty()) return;
   const NOSPD::Positions pos = padded_positions();
@@ -194,8 +211,16 @@ void FixNospdBonds::carry_refits(const std::vector<int> &changed, const std::vec
     if (singular[i]) continue;
     compute_deformation(pos, nullptr, i, i + 1);
     NOSPD::Mat3 Fc = NOSPD::load(fcarry[i]);
-    if (NOSPD::carry_deformation(fold[c], NOSPD::load(defgrad[i]), Fc)) NOSPD::store(Fc, fcarry[i]);
-    else singular[i] = 1;    // kept by conditioning_tolerance, as a damaged family's
+    if (!NOSPD::carry_deformation(before[c].F, NOSPD::load(defgrad[i]), Fc)) {
+      singular[i] = 1;    // kept by conditioning_tolerance, as a damaged family's
+      continue;
+    }
+    NOSPD::store(Fc, fcarry[i]);
+    if (before[c].curved) {
+      const NOSPD::Mat36 G = NOSPD::carried_quadratic_start(before[c].Qs, before[c].FFc);
+      for (int k = 0; k < NOSPD::CarriedQuadratic::G_SIZE; k++)
+        kinv2[i][NOSPD::CarriedQuadratic::G_AT + k] = G.data()[k];
+    }
   }
 }
 

@@ -239,28 +239,8 @@ void FixNospdDamage::init()
                    "and forces are those of the body with the bonds intact at the start of the "
                    "rerun", cmd, id);
   rerun_warned = rerun;    // once per rerun command (it initializes per snapshot)
-  // measured in the projectile scene: doc Howto_choose_model, "Warnings"
-  if (comm->me == 0 && !fragment_warned && criterion != NONE && pair->bond_associated() &&
-      pair->stabilization_kind() == static_cast<int>(NOSPD::Stab::NONE))
-    error->warning(FLERR, "{} {}: the bond-associated style without a stabilization term lets "
-                   "damaged families run away (the body shatters where peri/pmb cracks); add "
-                   "`stabilization silling 0.5` to pair_style peri/nospd/hs (doc "
-                   "Howto_choose_model, \"Warnings\")", cmd, id);
-  fragment_warned = true;
-  // measured in the perforation scene: doc pair_peri_nospd, "Families that lose bonds"
-  if (comm->me == 0 && !quadratic_warned && criterion != NONE && pair->quadratic_active())
-    error->warning(FLERR, "{} {}: with stabilization/fit quadratic a family that loses bonds "
-                   "falls back to the linear fit, whose springs start loaded: breaking bonds "
-                   "adds energy (measured: 2-25 % of the dissipated in a ductile perforation); "
-                   "for fracture keep the linear fit (doc pair_peri_nospd, \"Families that lose "
-                   "bonds\")", cmd, id);
-  if (comm->me == 0 && !quadratic_warned && criterion != NONE &&
-      pair->stabilization_kind() == static_cast<int>(NOSPD::Stab::WAN))
-    error->warning(FLERR, "{} {}: stabilization wan's springs follow K^-1, which grows when a "
-                   "family loses bonds: breaking bonds adds energy (measured: 23 % of the "
-                   "dissipated in a ductile perforation); for fracture use stabilization silling "
-                   "(doc pair_peri_nospd, \"Families that lose bonds\")", cmd, id);
-  quadratic_warned = true;
+  if (!settings_warned && criterion != NONE) warn_settings(cmd);
+  settings_warned = true;
   if (criterion == EQPS || criterion == JC_DAMAGE) {
     bool any = false;
     for (int i = 1; i <= atom->ntypes; i++)
@@ -283,6 +263,41 @@ void FixNospdDamage::init()
     auto *req = neighbor->add_request(this, NeighConst::REQ_FULL);
     req->set_cutoff(contact_rc);
   }
+}
+
+/* ----------------------------------------------------------------------
+   settings of the pair style known to go wrong once bonds break, each
+   measured in a scene of bench/scenes/run_suite.py: one warning each,
+   with what to do instead
+------------------------------------------------------------------------- */
+
+void FixNospdDamage::warn_settings(const std::string &cmd)
+{
+  if (comm->me != 0) return;
+  const int kind = pair->stabilization_kind();
+  struct Known {
+    bool applies;
+    const char *what;
+  };
+  const Known known[] = {
+      {pair->bond_associated() && kind == static_cast<int>(NOSPD::Stab::NONE),
+       "the bond-associated style without a stabilization term lets damaged families run "
+       "away (the body shatters where peri/pmb cracks); add `stabilization silling 0.5` to "
+       "pair_style peri/nospd/hs (doc Howto_choose_model, \"Warnings\")"},
+      {pair->quadratic_active() && !pair->carries_deformation(),
+       "with stabilization/fit quadratic and damaged_state refit a family that loses bonds "
+       "falls back to the linear fit, whose springs start loaded: breaking bonds adds energy "
+       "(measured: 25-117 % of the dissipated in a ductile perforation); keep damaged_state "
+       "carry, which carries the fit's curvature (doc pair_peri_nospd, \"Families that lose "
+       "bonds\")"},
+      {kind == static_cast<int>(NOSPD::Stab::WAN),
+       "stabilization wan's springs follow K^-1, which grows when a family loses bonds: "
+       "breaking bonds adds energy (measured: 23 % of the dissipated in a ductile "
+       "perforation); for fracture use stabilization silling (doc pair_peri_nospd, "
+       "\"Families that lose bonds\")"},
+  };
+  for (const Known &k : known)
+    if (k.applies) error->warning(FLERR, "{} {}: {}", cmd, id, k.what);
 }
 
 /* ---------------------------------------------------------------------- */

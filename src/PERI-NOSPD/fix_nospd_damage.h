@@ -110,8 +110,7 @@ class FixNospdDamage : public Fix {
   double econtact;          // contact energy of the owned atoms, last evaluation
   double far2 = 0.0;        // the ghost cutoff squared, at the last evaluation
   bool rerun_warned = false;    // rerun's warning given
-  bool fragment_warned = false;    // the bond-associated style with no stabilization term
-  bool quadratic_warned = false;   // the quadratic fit's or Wan's springs with damage
+  bool settings_warned = false;    // warn_settings() done
   // contact: per atom, the rest distances of pairs whose bond broke while
   // they were closer than the nominal one (NOSPD::ContactMemory records)
   double **cmem = nullptr;
@@ -132,6 +131,7 @@ class FixNospdDamage : public Fix {
   int parse_keyword(Args &, int iarg, const char *&contact_keyword_given);
   int add_precrack(Args &, int iarg);
   void setup_tables();
+  void warn_settings(const std::string &cmd);
   void store_state();
   void store_state_range(NOSPD::Law law, int from, int to);
   void fill_comm_data();

@@ -86,13 +86,26 @@ void PairPeriNospd::quadratic_pass()
 
 /* atom i's fit A = [H2 | Q]: H2 for B, alpha Q into qmat (columns), and
    e2 = sum_j w |U - A phi|^2 = sum_j w |U|^2 - A : N2 (the moments of the
-   energy pass, else 0).  Where the family has no quadratic fit, the linear
-   one: H2 = H, Q = 0, e2 = sum_j w |U - H xi|^2. */
+   energy pass, else 0).  A family that lost bonds: its carried curvature
+   (nospd_quadratic_carry.h).  Where the family has no quadratic fit, the
+   linear one: H2 = H, Q = 0, e2 = sum_j w |U - H xi|^2. */
 void PairPeriNospd::quadratic_spring(int i, const Mat3 &H, Mat3 &H2, double &e2, bool energy)
 {
   const double *rec = fix_bonds->kinv2[i];
   const double alpha = stab_scalar[atom->type[i]];
   double *q = qmat[i];
+  if (rec[NOSPD::QuadraticFit::PACKED] == NOSPD::CarriedQuadratic::FLAG) {
+    const Mat3 Ki = NOSPD::load(fix_bonds->kinv[i]);
+    const Eigen::Map<const NOSPD::Mat36> G(rec + NOSPD::CarriedQuadratic::G_AT);
+    const NOSPD::Mat36 FcG = NOSPD::load(fix_bonds->fcarry[i]) * G;
+    const Eigen::Map<const Eigen::Matrix<double, 3, 9>> N2(qsums[i]);
+    const double elin = energy ? nonaffine_moment(i, H, Ki).trace() : 0.0;
+    NOSPD::Mat36 Q;
+    NOSPD::carried_quadratic_spring(H, FcG, N2, rec, Ki, elin, energy, H2, Q, e2);
+    for (int k = 0; k < 6; k++)
+      for (int r = 0; r < 3; r++) q[3 * k + r] = alpha * Q(r, k);
+    return;
+  }
   if (rec[NOSPD::QuadraticFit::PACKED] == 0.0) {
     H2 = H;
     for (int k = 0; k < NOSPD::QREC; k++) q[k] = 0.0;

@@ -6,7 +6,10 @@
 # (the largest fall of W_ext - ke - pe - W_p below its running maximum, every
 # 10 steps) at most 1 % of the energy dissipated.  The same run with
 # damaged_state refit (the law on the new fit of a family that lost bonds)
-# creates more than that, which shows the check can tell.
+# creates more than that, which shows the check can tell.  Silling's
+# springs on the quadratic fit, whose damaged families carry the curvature
+# of their last fit (nospd_quadratic_carry.h), pass as the default does;
+# with damaged_state refit they fall back to the linear fit and fail.
 # usage: run_perforation_energy.sh LMP WORKDIR
 set -euo pipefail
 export PYTHONDONTWRITEBYTECODE=1    # the balance script is imported from the source tree
@@ -20,18 +23,22 @@ run() { # name settings
 }
 run default ""
 run refit "damaged_state refit"
+run quadratic "stabilization silling 0.5 stabilization/fit quadratic"
+run quadratic_refit "stabilization silling 0.5 stabilization/fit quadratic damaged_state refit"
 /usr/bin/python3 - "$ROOT/bench/scenes" <<'PY'
 import sys
 sys.path.insert(0, sys.argv[1])
 from energy_balance import balance, columns
 ok = True
-for name, must_pass in (('default', True), ('refit', False)):
+for name, must_pass in (('default', True), ('refit', False), ('quadratic', True),
+                        ('quadratic_refit', False)):
     created, dissipated, n = balance(name + '.log')
     broken = columns(name + '.log')['f_NOSPD_BONDS[2]'][-1]
-    ratio = created / dissipated
+    # a run that ends with more energy than it was given created it all
+    ratio = created / dissipated if dissipated > 0 else float('inf')
     print(f"{name}: created {created:.4g} dissipated {dissipated:.4g} ratio {100 * ratio:.3f} % "
           f"broken {broken:.0f} ({n} rows)")
-    if broken < 1000 or not dissipated > 0:
+    if broken < 1000:
         print(f"{name}: the plate did not break: the test means nothing"); ok = False
     if must_pass and not ratio <= 0.01:
         print(f"{name}: energy created above 1 % of the dissipated"); ok = False
