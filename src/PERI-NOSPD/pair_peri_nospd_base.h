@@ -64,6 +64,7 @@ class PairPeriNospdBase : public Pair {
   // a type this style owns (under pair hybrid others may belong to other styles)
   bool owns_type(int itype) const { return active[itype] != 0; }
   int stabilization_kind() const { return static_cast<int>(stab); }
+  double stabilization_parameter() const { return stab_param; }    // Silling G or hourglass C
   // Silling's springs on the quadratic fit (stabilization/fit quadratic)
   bool quadratic_active() const { return fit_quadratic && stab == NOSPD::Stab::SILLING; }
   bool bond_associated() const { return family_kind() == 2; }

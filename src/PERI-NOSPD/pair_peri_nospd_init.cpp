@@ -93,7 +93,7 @@ void PairPeriNospdBase::check_run_environment(const std::string &cmd)
 
 /* ----------------------------------------------------------------------
    Silling's springs on the linear fit store the curvature of a smooth
-   plastic flow and hold large flows back (Taylor bars 16-25 % narrow:
+   plastic flow and hold large flows back (Taylor bars 19-27 % narrow:
    doc Howto_choose_model, "Warnings"); contained plastic zones are right
    with them.  Said once, with the alternatives.
 ------------------------------------------------------------------------- */
@@ -109,10 +109,11 @@ void PairPeriNospdBase::warn_plastic_flow(const std::string &cmd)
   if (comm->me == 0)
     error->warning(FLERR, "{}: type {} is plastic and `stabilization silling {:g}` acts on the "
                    "linear fit, whose springs hold large plastic flow back (measured: Taylor "
-                   "bar footprints 16-25 % narrow); for large flow (impacts, forming) use "
-                   "stabilization silling 0.05 stabilization/fit quadratic or pair_style "
-                   "peri/nospd/hs; plastic zones of a few per cent strain are right as they "
-                   "are (doc Howto_choose_model, \"Warnings\")", cmd, plastic, stab_param);
+                   "bar footprints 19-27 % narrow); for large flow (impacts, forming) use "
+                   "stabilization silling 0.5 stabilization/fit quadratic (footprints within "
+                   "3.3 %, bench/scenes/run_suite.py); plastic zones of a few per cent strain "
+                   "are right as they are (doc Howto_choose_model, \"Warnings\")", cmd,
+                   plastic, stab_param);
 }
 
 /* ----------------------------------------------------------------------

@@ -540,36 +540,41 @@ TEST(QuadraticFit, StepWithoutVirialMatchesStepWithIt)
   }
 }
 
-/* A family that has lost bonds keeps the linear fit (its ragged partners
-   fit a quadratic poorly: the projectile scene ran away with them), an
-   intact one keeps its quadratic fit. */
-TEST(QuadraticFit, FamiliesThatLostBondsKeepTheLinearFit)
+/* A family that has lost bonds fits no quadratic (its ragged partners fit
+   one poorly: the projectile scene ran away with them).  Under the default
+   damaged_state carry it keeps the curvature of its last fit (a carried
+   record, nospd_quadratic_carry.h); under refit the linear fit.  An intact
+   family keeps its quadratic fit. */
+TEST(QuadraticFit, FamiliesThatLostBondsCarryOrKeepTheLinearFit)
 {
-  LAMMPS *lmp = open_lammps();
-  Block blk;
-  blk.n = 9;
-  blk.settings = "strain small stabilization silling 0.5 stabilization/fit quadratic";
-  make_block(lmp, blk);
-  cmd(lmp, "run 0");
-  auto *fb = static_cast<FixNospdBonds *>(lmp->modify->get_fix_by_id("NOSPD_BONDS"));
-  const int nlocal = lmp->atom->nlocal;
-  const int flag = NOSPD::QuadraticFit::PACKED;
-  int fitted = 0;
-  for (int i = 0; i < nlocal; i++) fitted += fb->kinv2[i][flag] == 1.0;
-  EXPECT_EQ(fitted, nlocal);    // every family of the block, corners included
-  ASSERT_GT(break_random_bonds(lmp, 0.02, 3), 0);
-  cmd(lmp, "run 0");
-  int lost = 0, intact_fitted = 0;
-  for (int i = 0; i < nlocal; i++) {
-    if (fb->bond_first[i + 1] - fb->bond_first[i] < fb->family_size[i]) {
-      lost++;
-      EXPECT_EQ(fb->kinv2[i][flag], 0.0) << "atom " << lmp->atom->tag[i];
-    } else
-      intact_fitted += fb->kinv2[i][flag] == 1.0;
+  for (const std::string state : {"", " damaged_state refit"}) {
+    LAMMPS *lmp = open_lammps();
+    Block blk;
+    blk.n = 9;
+    blk.settings = "strain small stabilization silling 0.5 stabilization/fit quadratic" + state;
+    make_block(lmp, blk);
+    cmd(lmp, "run 0");
+    auto *fb = static_cast<FixNospdBonds *>(lmp->modify->get_fix_by_id("NOSPD_BONDS"));
+    const int nlocal = lmp->atom->nlocal;
+    const int flag = NOSPD::QuadraticFit::PACKED;
+    int fitted = 0;
+    for (int i = 0; i < nlocal; i++) fitted += fb->kinv2[i][flag] == 1.0;
+    EXPECT_EQ(fitted, nlocal);    // every family of the block, corners included
+    ASSERT_GT(break_random_bonds(lmp, 0.02, 3), 0);
+    cmd(lmp, "run 0");
+    const double damaged = state.empty() ? NOSPD::CarriedQuadratic::FLAG : 0.0;
+    int lost = 0, intact_fitted = 0;
+    for (int i = 0; i < nlocal; i++) {
+      if (fb->bond_first[i + 1] - fb->bond_first[i] < fb->family_size[i]) {
+        lost++;
+        EXPECT_EQ(fb->kinv2[i][flag], damaged) << "atom " << lmp->atom->tag[i] << state;
+      } else
+        intact_fitted += fb->kinv2[i][flag] == 1.0;
+    }
+    EXPECT_GT(lost, 0);
+    EXPECT_EQ(intact_fitted, nlocal - lost);
+    delete lmp;
   }
-  EXPECT_GT(lost, 0);
-  EXPECT_EQ(intact_fitted, nlocal - lost);
-  delete lmp;
 }
 
 std::vector<Variant> all_variants()

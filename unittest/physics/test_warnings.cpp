@@ -120,6 +120,31 @@ TEST_F(Warnings, BondAssociatedDamageWithoutStabilizationWarns)
   }
 }
 
+/* Brittle damage with Silling's springs at G > 0.15 (the default's 0.5
+   included): they keep a crack from branching (bench/scenes/run_suite.py,
+   glass), said once; not with G = 0.05, the hourglass force, or a
+   plastic-strain criterion. */
+TEST_F(Warnings, SillingSpringsHoldingBranchesWarn)
+{
+  const std::string said = "hold a running crack from branching";
+  for (const std::string settings : {"", "stabilization silling 0.5 stabilization/fit quadratic",
+                                     "stabilization silling 0.05", "stabilization hourglass 0.5"}) {
+    const auto text = damage_log("peri/nospd", settings);
+    const bool expected = settings.empty() || settings.find("0.5 stab") != std::string::npos;
+    EXPECT_EQ(text.find(said) != std::string::npos, expected) << settings;
+    EXPECT_EQ(text.find(said), text.rfind(said));
+  }
+  EXPECT_NE(damage_log("peri/nospd/hs", "stabilization silling 0.5").find(said), std::string::npos);
+  delete lmp;
+  lmp = open_lammps();
+  Block blk;
+  blk.n = 6;
+  make_block(lmp, blk);
+  cmd(lmp, "pair_coeff * * 200e9 0.3 " + num(blk.delta()) + " yield 250e6");
+  cmd(lmp, "fix d all nospd/damage eqps 0.5");
+  EXPECT_EQ(log_of(lmp, {"run 0"}).find(said), std::string::npos);
+}
+
 /* Damage with springs that start loaded when a family loses bonds: on
    the quadratic fit with damaged_state refit (a damaged family falls back
    to the linear fit) and Wan's (stiffness from K^-1): one warning each;
