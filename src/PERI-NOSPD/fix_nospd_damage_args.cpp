@@ -1,18 +1,28 @@
 /* ----------------------------------------------------------------------
    PERI-NOSPD: the arguments of fix nospd/damage: its criterion and keywords,
-   every number through nospd_input.h.
+   every number through nospd_input.h; and the pair style's settings known
+   to go wrong with them (warn_settings), and the tables they make per type
+   pair (setup_tables).
 ------------------------------------------------------------------------- */
 
 #include "fix_nospd_damage.h"
 
+#include "atom.h"
+#include "comm.h"
 #include "domain.h"
 #include "error.h"
 #include "group.h"
+#include "memory.h"
 #include "region.h"
+
+#include "pair_peri_nospd_base.h"
 
 #include "nospd_damage_criteria.h"
 #include "nospd_input.h"
+#include "nospd_stabilization.h"
 
+#include <algorithm>
+#include <cmath>
 #include <cstring>
 
 using namespace LAMMPS_NS;
@@ -223,4 +233,136 @@ int FixNospdDamage::add_precrack(Args &args, int iarg)
     error->all(FLERR, "{}: precrack segment has zero length", cmd);
   precracks.push_back(p);
   return iarg + 1 + n;
+}
+
+/* ----------------------------------------------------------------------
+   settings of the pair style known to go wrong once bonds break, each
+   measured in a scene of bench/scenes/run_suite.py: one warning each,
+   with what to do instead
+------------------------------------------------------------------------- */
+
+void FixNospdDamage::warn_settings(const std::string &cmd)
+{
+  if (comm->me != 0) return;
+  const int kind = pair->stabilization_kind();
+  const bool brittle = criterion != EQPS && criterion != JC_DAMAGE;
+  struct Known {
+    bool applies;
+    const char *what;
+  };
+  const Known known[] = {
+      {pair->bond_associated() && kind == static_cast<int>(NOSPD::Stab::NONE),
+       "the bond-associated style without a stabilization term lets damaged families run "
+       "away (the body shatters where peri/pmb cracks); add `stabilization silling 0.5` to "
+       "pair_style peri/nospd/hs (doc Howto_choose_model, \"Warnings\")"},
+      {pair->quadratic_active() && !pair->carries_deformation(),
+       "with stabilization/fit quadratic and damaged_state refit a family that loses bonds "
+       "falls back to the linear fit, whose springs start loaded: breaking bonds adds energy "
+       "(measured: 25-117 % of the dissipated in a ductile perforation); keep damaged_state "
+       "carry, which carries the fit's curvature (doc pair_peri_nospd, \"Families that lose "
+       "bonds\")"},
+      {kind == static_cast<int>(NOSPD::Stab::WAN),
+       "stabilization wan's springs follow K^-1, which grows when a family loses bonds: "
+       "breaking bonds adds energy (measured: 23 % of the dissipated in a ductile "
+       "perforation); for fracture use stabilization silling (doc pair_peri_nospd, "
+       "\"Families that lose bonds\")"},
+  };
+  for (const Known &k : known)
+    if (k.applies) error->warning(FLERR, "{} {}: {}", cmd, id, k.what);
+  // the soda-lime glass plate of examples/crack_branching branches with
+  // silling 0.05-0.1 and hourglass 0.2-0.5, not with silling 0.2-0.5
+  if (brittle && kind == static_cast<int>(NOSPD::Stab::SILLING) &&
+      pair->stabilization_parameter() > 0.15)
+    error->warning(FLERR, "{} {}: Silling's springs at G = {:g} hold a running crack from "
+                   "branching (measured: the soda-lime glass plate of examples/crack_branching "
+                   "keeps one crack with G >= 0.2, branches with G <= 0.1 or hourglass 0.2-0.5); "
+                   "where cracks may branch use stabilization silling 0.05 or hourglass 0.5, "
+                   "which turn the Kalthoff-Winkler cracks to 62-64 deg instead of 72 at dx 1 mm "
+                   "(doc Howto_choose_model, \"Warnings\")", cmd, id,
+                   pair->stabilization_parameter());
+}
+
+/* ----------------------------------------------------------------------
+   critical values and contact stiffness per type pair; a bond between
+   types I and J uses the smaller of the two types' critical values
+------------------------------------------------------------------------- */
+
+void FixNospdDamage::setup_tables()
+{
+  const std::string cmd = std::string("fix ") + style;
+  const int ntypes = atom->ntypes;
+  const int dim = domain->dimension;
+  const NOSPD::Plane plane = pair->plane();
+  const double t = pair->plate_thickness();
+
+  memory->destroy(crit);
+  memory->destroy(kcontact);
+  memory->destroy(delta);
+  memory->create(crit, ntypes + 1, ntypes + 1, "nospd/damage:crit");
+  memory->create(kcontact, ntypes + 1, ntypes + 1, "nospd/damage:kcontact");
+  memory->create(delta, ntypes + 1, ntypes + 1, "nospd/damage:delta");
+
+  if (from_g0 && !g0_given)
+    for (int i = 1; i <= ntypes; i++)
+      if (pair->owns_type(i) && !(pair->fracture_energy(i) > 0.0))
+        error->all(FLERR, "{}: atom type {} has no fracture energy G0: read its material from a "
+                   "material file with a G0, or give G0 after 'g0'", cmd, i);
+
+  auto type_value = [&](int i, double d) {
+    if (!from_g0) return value;
+    const double G0 = g0_given ? value : pair->fracture_energy(i);
+    if (criterion == STRETCH)
+      return NOSPD::critical_stretch_from_g0(dim, plane, pair->youngs_modulus(i),
+                                             pair->poisson_ratio(i), d, G0);
+    return NOSPD::critical_energy_from_g0(dim, d, t, G0);
+  };
+
+  // types of other pair styles (pair hybrid) have no bonds and no contact here
+  for (int i = 1; i <= ntypes; i++)
+    for (int j = 1; j <= ntypes; j++) {
+      delta[i][j] = crit[i][j] = kcontact[i][j] = 0.0;
+      if (!pair->owns_type(i) || !pair->owns_type(j)) continue;
+      const double d = pair->horizon(i, j);
+      delta[i][j] = d;
+      crit[i][j] = std::min(type_value(i, d), type_value(j, d));
+      const double ci = NOSPD::micromodulus(dim, plane, pair->youngs_modulus(i),
+                                            pair->poisson_ratio(i), d, t);
+      const double cj = NOSPD::micromodulus(dim, plane, pair->youngs_modulus(j),
+                                            pair->poisson_ratio(j), d, t);
+      kcontact[i][j] = contact_scale * 0.5 * (ci + cj);
+    }
+
+  // contact radius: given, or 1.35 times the largest point spacing, the
+  // spacing taken from the volume (2D: V = dx^2 t)
+  if (contact) {
+    if (contact_radius > 0.0) contact_rc = contact_radius;
+    else {
+      double vmax = 0.0;
+      for (int i = 0; i < atom->nlocal; i++) vmax = std::max(vmax, atom->vfrac[i]);
+      double all;
+      MPI_Allreduce(&vmax, &all, 1, MPI_DOUBLE, MPI_MAX, world);
+      const double dx = (dim == 3) ? std::cbrt(all) : std::sqrt(all / t);
+      contact_rc = 1.35 * dx;
+    }
+    double dmin = 1e300;
+    int imin = 0, jmin = 0;
+    for (int i = 1; i <= ntypes; i++)
+      for (int j = 1; j <= ntypes; j++)
+        if (pair->owns_type(i) && pair->owns_type(j) && delta[i][j] < dmin) {
+          dmin = delta[i][j];
+          imin = i, jmin = j;
+        }
+    if (imin && !(contact_rc < dmin))
+      error->all(FLERR, "{}: contact radius {} must be smaller than the horizon {} of types {} {}",
+                 cmd, contact_rc, dmin, imin, jmin);
+  }
+
+  if (comm->me == 0 && criterion != NONE) {
+    std::string msg = fmt::format("{} {}: critical value per type pair:", cmd, id);
+    for (int i = 1; i <= ntypes; i++)
+      for (int j = i; j <= ntypes; j++)
+        if (pair->owns_type(i) && pair->owns_type(j))
+          msg += fmt::format(" {}-{} {:.6g}", i, j, crit[i][j]);
+    utils::logmesg(lmp, msg + "\n");
+  }
 }
