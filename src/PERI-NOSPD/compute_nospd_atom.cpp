@@ -8,6 +8,7 @@
 #include "domain.h"
 #include "error.h"
 #include "fix_nospd_bonds.h"
+#include "fix_nospd_heat.h"
 #include "force.h"
 #include "memory.h"
 #include "pair.h"
@@ -18,6 +19,7 @@
 #include "nospd_plasticity.h"
 #include "nospd_umat.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 
@@ -32,6 +34,7 @@ static int ncolumns(int q)
     case 2: return 6;    // stress
     case 8: return 6;    // plastic strain
     case 9: return 6;    // back stress
+    case 15: return 3;   // heat flux
     default: return 1;
   }
 }
@@ -58,10 +61,11 @@ ComputeNospdAtom::ComputeNospdAtom(LAMMPS *lmp, int narg, char **arg) :
     else if (k == "plastic_work") quantities.push_back(PLASTIC_WORK);
     else if (k == "jc_damage") quantities.push_back(JC_DAMAGE);
     else if (k == "strain_rate") quantities.push_back(STRAIN_RATE);
+    else if (k == "heat_flux") quantities.push_back(HEAT_FLUX);
     else
       error->all(FLERR, "compute {}: unknown quantity '{}' (F, strain, stress, vonmises, energy, "
                  "zem, singular, eqps, plastic_strain, back_stress, temperature, yield, "
-                 "plastic_work, jc_damage, strain_rate)", style, k);
+                 "plastic_work, jc_damage, strain_rate, heat_flux)", style, k);
   }
   if (quantities.empty()) quantities = {DEFGRAD, STRAIN, STRESS, VONMISES, ENERGY, ZEM, SINGULAR};
 
@@ -118,6 +122,11 @@ void ComputeNospdAtom::compute_peratom()
   // those of the last rebuild, stale once atoms were added or deleted
   const bool ready = bonds && bonds->bond_first;
   const bool bonds_current = ready && bonds->bond_arrays_current();
+  // the flux needs the ghosts' temperatures (a collective forward comm)
+  FixNospdHeat *heat = pair->attached_heat();
+  const bool want_flux =
+      std::find(quantities.begin(), quantities.end(), (int) HEAT_FLUX) != quantities.end();
+  if (want_flux && heat) heat->prepare_flux();
 
   for (int i = 0; i < nlocal; i++) {
     double *row = out[i];
@@ -151,6 +160,11 @@ void ComputeNospdAtom::compute_peratom()
         case ENERGY: row[c++] = bonds->energy_density[i]; break;
         case ZEM: row[c++] = bonds_current ? bonds->zem_indicator(i) : 0.0; break;
         case SINGULAR: row[c++] = bonds->singular[i]; break;
+        case HEAT_FLUX:
+          if (heat && bonds_current) heat->heat_flux(i, row + c);
+          else row[c] = row[c + 1] = row[c + 2] = 0.0;
+          c += 3;
+          break;
         default: c = history_columns(i, q, row, c); break;
       }
     }

@@ -22,7 +22,7 @@ namespace LAMMPS_NS {
    energy density, zero-energy-mode indicator and singular-family flag;
    for inelastic materials the history (equivalent plastic strain, plastic
    strain tensor, back stress, temperature, yield flag, plastic work,
-   Johnson-Cook damage).
+   Johnson-Cook damage); with fix nospd/heat the heat flux -k grad T.
    Everything but the indicator is read, not recomputed. */
 class ComputeNospdAtom : public Compute {
  public:
@@ -36,7 +36,7 @@ class ComputeNospdAtom : public Compute {
   enum Quantity {
     DEFGRAD, STRAIN, STRESS, VONMISES, ENERGY, ZEM, SINGULAR,
     EQPS, PLASTIC_STRAIN, BACK_STRESS, TEMPERATURE, YIELDING, PLASTIC_WORK, JC_DAMAGE,
-    STRAIN_RATE
+    STRAIN_RATE, HEAT_FLUX
   };
   std::vector<int> quantities;
   int nmax;

@@ -170,6 +170,9 @@ struct ThermalLaw {
   double chi = 0.9;        // Taylor-Quinney fraction
   bool failure = false;    // Johnson-Cook failure model
   double D[5] = {0.0, 0.0, 0.0, 0.0, 0.0};
+  // last (restarts before layout 5 end here): conduction for fix nospd/heat
+  double k = 0.0;          // conductivity; 0: none
+  double c = 0.0;          // its specific heat capacity
 };
 
 // What the point needs from its surroundings.

@@ -14,6 +14,7 @@
 #include "fix_nospd_bonds.h"
 #include "fix_nospd_damage.h"
 #include "fix_nospd_damage_omp.h"
+#include "fix_nospd_heat.h"
 #include "pair_peri_nospd.h"
 #include "pair_peri_nospd_hs.h"
 #include "pair_peri_nospd_hs_omp.h"
@@ -72,6 +73,12 @@ Fix *fix_damage_creator(LAMMPS *lmp, int argc, char **argv)
 {
   version_ok(lmp, "fix nospd/damage");
   return new FixNospdDamage(lmp, argc, argv);
+}
+
+Fix *fix_heat_creator(LAMMPS *lmp, int argc, char **argv)
+{
+  version_ok(lmp, "fix nospd/heat");
+  return new FixNospdHeat(lmp, argc, argv);
 }
 
 Fix *fix_damage_omp_creator(LAMMPS *lmp, int argc, char **argv)
@@ -167,5 +174,10 @@ extern "C" void lammpsplugin_init(void *lmp, void *handle, void *regfunc)
   plugin.name = "nospd/damage/omp";
   plugin.info = "PERI-NOSPD bond breaking, pre-cracks and contact, OpenMP threads";
   plugin.creator.v2 = (lammpsplugin_factory2 *) &fix_damage_omp_creator;
+  (*register_plugin)(&plugin, lmp);
+
+  plugin.name = "nospd/heat";
+  plugin.info = "PERI-NOSPD peridynamic heat conduction and thermo-mechanical coupling";
+  plugin.creator.v2 = (lammpsplugin_factory2 *) &fix_heat_creator;
   (*register_plugin)(&plugin, lmp);
 }

@@ -21,6 +21,7 @@
 #include "nospd_threads.h"
 
 #include <algorithm>
+#include <cstddef>
 #include <cstring>
 #include <utility>
 #include <vector>
@@ -46,7 +47,8 @@ static const char cite_nospd[] =
 // (files written before it existed start with the strain law, 0..8); the
 // layout before damaged_leverage (0x4e530002) is read as without that limit,
 // those before drucker_prager (up to 0x4e530003) without it
-static constexpr int RESTART_LAYOUT = 0x4e530004;
+static constexpr int RESTART_LAYOUT = 0x4e530005;
+static constexpr int RESTART_LAYOUT_V5 = 0x4e530005;    // ThermalLaw's conduction
 static constexpr int RESTART_LAYOUT_V4 = 0x4e530004;
 static constexpr int RESTART_LAYOUT_V3 = 0x4e530003;
 static constexpr int RESTART_LAYOUT_V2 = 0x4e530002;
@@ -583,7 +585,9 @@ void PairPeriNospdBase::read_restart(FILE *fp)
       utils::sfread(FLERR, &poisson[i], sizeof(double), 1, fp, nullptr, error);
       utils::sfread(FLERR, &g0[i], sizeof(double), 1, fp, nullptr, error);
       utils::sfread(FLERR, &flow[i], sizeof(NOSPD::FlowLaw), 1, fp, nullptr, error);
-      utils::sfread(FLERR, &thermal[i], sizeof(NOSPD::ThermalLaw), 1, fp, nullptr, error);
+      const size_t bytes = restart_layout >= RESTART_LAYOUT_V5 ? sizeof(NOSPD::ThermalLaw)
+                                                                : offsetof(NOSPD::ThermalLaw, k);
+      utils::sfread(FLERR, &thermal[i], bytes, 1, fp, nullptr, error);
       if (restart_layout >= RESTART_LAYOUT_V4)
         utils::sfread(FLERR, &drucker_prager[i], sizeof(NOSPD::DruckerPrager), 1, fp, nullptr,
                       error);
@@ -632,7 +636,8 @@ void PairPeriNospdBase::read_restart_settings(FILE *fp)
   int layout = 0;
   if (comm->me == 0) utils::sfread(FLERR, &layout, sizeof(int), 1, fp, nullptr, error);
   MPI_Bcast(&layout, 1, MPI_INT, 0, world);
-  if (layout != RESTART_LAYOUT && layout != RESTART_LAYOUT_V3 && layout != RESTART_LAYOUT_V2)
+  if (layout != RESTART_LAYOUT && layout != RESTART_LAYOUT_V4 && layout != RESTART_LAYOUT_V3 &&
+      layout != RESTART_LAYOUT_V2)
     error->all(FLERR, "read_restart: the {} settings in this file were written by an older "
                "PERI-NOSPD plugin, whose layout this one cannot read: write the file again "
                "with this plugin", force->pair_style);

@@ -22,6 +22,7 @@
 namespace LAMMPS_NS {
 
 class FixNospdBonds;
+class FixNospdHeat;
 struct NospdBondModel;
 
 /* What the two correspondence styles share (siblings: PairPeriNospd, the
@@ -88,8 +89,18 @@ class PairPeriNospdBase : public Pair {
   const NOSPD::FlowLaw &flow_law(int itype) const { return flow[itype]; }
   const NOSPD::ThermalLaw &thermal_law(int itype) const { return thermal[itype]; }
   // temperature of owned atom i at the last force evaluation: the user's
-  // (temperature keyword, else the type's reference) plus adiabatic heating
+  // (temperature keyword, fix nospd/heat's field, else the type's
+  // reference) plus adiabatic heating not yet moved into the field
   double temperature(int i) const;
+  // the adiabatic heating of owned atom i's accepted state (0 for laws
+  // without); newest: the trial state's where a force evaluation made one
+  // that the step has not yet accepted
+  double adiabatic_heat(int i, bool newest = false) const;
+  // fix nospd/heat owns the temperature (its init attaches, its destructor
+  // detaches; the temperature keyword must then be none)
+  void attach_heat(FixNospdHeat *f) { heat_field = f; }
+  FixNospdHeat *attached_heat() const { return heat_field; }
+  bool temperature_given() const { return temperature_kind != TEMP_NONE; }
 
  protected:
   FixNospdBonds *fix_bonds;
@@ -131,6 +142,7 @@ class PairPeriNospdBase : public Pair {
   std::string temperature_name;
   int temperature_index;
   double *temperature_base;    // per owned atom, filled by the constitutive pass
+  FixNospdHeat *heat_field = nullptr;    // the temperature's owner, if any
   double *stab_scalar;    // Silling alpha or hourglass c_hg, per type
   double **cut;
 

@@ -9,6 +9,7 @@
 #include "domain.h"
 #include "error.h"
 #include "fix_nospd_bonds.h"
+#include "fix_nospd_heat.h"
 #include "force.h"
 #include "input.h"
 #include "update.h"
@@ -136,6 +137,8 @@ void PairPeriNospdBase::fill_base_temperature()
   } else if (temperature_kind == TEMP_PROPERTY) {
     const double *t = atom->dvector[temperature_index];
     for (int i = 0; i < nlocal; i++) temperature_base[i] = t[i];
+  } else if (heat_field) {
+    for (int i = 0; i < nlocal; i++) temperature_base[i] = heat_field->base_temperature(i, type[i]);
   } else {
     for (int i = 0; i < nlocal; i++) temperature_base[i] = thermal[type[i]].T_ref;
   }
@@ -147,7 +150,8 @@ void PairPeriNospdBase::fill_base_temperature()
     if (inelastic[type[i]] && !(std::isfinite(T) && (T > 0.0 || !absolute)))
       error->one(FLERR, "pair_style {}: step {}: atom {} has temperature {} from {}{}{}",
                  force->pair_style, update->ntimestep, atom->tag[i], T,
-                 temperature_kind == TEMP_VARIABLE ? "v_" : "d_", temperature_name,
+                 temperature_kind == TEMP_VARIABLE ? "v_" : heat_field ? "fix nospd/heat" : "d_",
+                 temperature_name,
                  std::isfinite(T) ? " (the temperature of a plastic or thermal law is absolute: "
                                     "it must be > 0)" : "");
   }
@@ -158,8 +162,25 @@ void PairPeriNospdBase::fill_base_temperature()
 double PairPeriNospdBase::temperature(int i) const
 {
   const int nhist = fix_bonds ? fix_bonds->nhistory : 0;
-  if (!nhist || !temperature_base || i >= nmax_work) return thermal[atom->type[i]].T_ref;
-  return temperature_base[i] + (nhist ? fix_bonds->history[i][NOSPD::Hist::HEAT] : 0.0);
+  const int itype = atom->type[i];
+  if (heat_field && (!nhist || !temperature_base || i >= nmax_work))
+    return heat_field->base_temperature(i, itype) + adiabatic_heat(i);
+  if (!nhist || !temperature_base || i >= nmax_work) return thermal[itype].T_ref;
+  return temperature_base[i] + adiabatic_heat(i);
+}
+
+/* ----------------------------------------------------------------------
+   the heating in the accepted state's history: J2/Johnson-Cook with heat
+   cp chi only (other laws keep other things at that index)
+------------------------------------------------------------------------- */
+
+double PairPeriNospdBase::adiabatic_heat(int i, bool newest) const
+{
+  const int itype = atom->type[i];
+  if (!fix_bonds || !fix_bonds->nhistory || !has_history(itype)) return 0.0;
+  if (!flow[itype].active || !(thermal[itype].cp > 0.0)) return 0.0;
+  double **rows = newest && fix_bonds->hist.trial_ready ? fix_bonds->history_trial : fix_bonds->history;
+  return rows[i][NOSPD::Hist::HEAT];
 }
 
 /* ---------------------------------------------------------------------- */

@@ -46,6 +46,7 @@ static bool parses_as_number(const char *word)
      johnson_cook A B n C rate0 m T_ref T_melt
      thermal alpha T_ref                 isotropic thermal expansion
      heat cp chi                         adiabatic heating (Taylor-Quinney chi)
+     conduction k c                      conductivity, capacity (fix nospd/heat)
      jc_failure D1 D2 D3 D4 D5           Johnson-Cook failure strain (damage)
      drucker_prager phi psi c H          Drucker-Prager plasticity (instead of yield)
    and those of user materials (nospd_user_material.cpp):
@@ -98,6 +99,14 @@ void PairPeriNospdBase::parse_inelastic(const std::vector<std::string> &words, N
         error->all(FLERR, "{}: heat Taylor-Quinney fraction must be in [0,1], got {}", where, v[1]);
       th.cp = v[0];
       th.chi = v[1];
+    } else if (key == "conduction") {
+      const auto v = values(2);
+      if (!(v[0] > 0.0) || !std::isfinite(v[0]))
+        error->all(FLERR, "{}: conduction k (conductivity) must be > 0 and finite, got {}", where, v[0]);
+      if (!(v[1] > 0.0) || !std::isfinite(v[1]))
+        error->all(FLERR, "{}: conduction c (specific heat) must be > 0 and finite, got {}", where, v[1]);
+      th.k = v[0];
+      th.c = v[1];
     } else if (key == "drucker_prager") {
       dp = drucker_prager_of(values(4), where);
     } else if (key == "jc_failure") {
@@ -107,7 +116,7 @@ void PairPeriNospdBase::parse_inelastic(const std::vector<std::string> &words, N
       for (int m = 0; m < 5; m++) th.D[m] = v[m];
     } else if (!user_materials->parse(words, k, us, where))
       error->all(FLERR, "{}: unknown keyword '{}' (yield, hardening, kinematic, johnson_cook, "
-                 "thermal, heat, jc_failure, drucker_prager, energy, param, umat, symbol, props, "
+                 "thermal, heat, conduction, jc_failure, drucker_prager, energy, param, umat, symbol, props, "
                  "statev)",
                  where, key);
   }
@@ -209,6 +218,9 @@ void PairPeriNospdBase::check_flow_law(const NOSPD::FlowLaw &fl, const NOSPD::Th
     error->all(FLERR, "{}: hardening/kinematic need a yield stress (keyword yield)", where);
   if (!fl.active && (th.cp > 0.0 || th.failure))
     error->all(FLERR, "{}: heat and jc_failure need plasticity (keyword yield or johnson_cook)", where);
+  if (th.k > 0.0 && th.cp > 0.0 && th.cp != th.c)
+    error->all(FLERR, "{}: heat cp {} and conduction c {} are one specific heat: give the same "
+               "value", where, th.cp, th.c);
   if (dp.active && (fl.H != 0.0 || fl.K != 0.0 || fl.Hkin != 0.0 || th.alpha != 0.0))
     error->all(FLERR, "{}: drucker_prager has its own hardening (its H) and no thermal strain: "
                "hardening, kinematic and thermal do not apply to it", where);

@@ -1,0 +1,625 @@
+/* ----------------------------------------------------------------------
+   PERI-NOSPD: fix nospd/heat -- peridynamic heat conduction on the points
+   of a correspondence body (kernel: nospd_heat.h; doc/fix_nospd_heat.rst).
+------------------------------------------------------------------------- */
+
+#include "fix_nospd_heat.h"
+
+#include "atom.h"
+#include "comm.h"
+#include "domain.h"
+#include "error.h"
+#include "fix_nospd_bonds.h"
+#include "force.h"
+#include "group.h"
+#include "input.h"
+#include "memory.h"
+#include "modify.h"
+#include "pair_peri_nospd_base.h"
+#include "update.h"
+#include "variable.h"
+
+#include "nospd_heat.h"
+#include "nospd_input.h"
+
+#include <cmath>
+#include <array>
+#include <cstring>
+#include <limits>
+
+using namespace LAMMPS_NS;
+using namespace FixConst;
+
+static const char *CMD = "fix nospd/heat";
+
+/* ---------------------------------------------------------------------- */
+
+FixNospdHeat::FixNospdHeat(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, narg, arg), tfield(nullptr), aux(nullptr)
+{
+  scalar_flag = 1;
+  extscalar = 1;
+  vector_flag = 1;
+  size_vector = 4;
+  extvector = 0;
+  peratom_flag = 1;
+  size_peratom_cols = 0;
+  peratom_freq = 1;
+  restart_global = 1;
+  restart_peratom = 1;
+  comm_forward = 2;
+  create_attribute = 1;
+  nevery = 1;
+  parse(narg, arg);
+
+  FixNospdHeat::grow_arrays(atom->nmax);
+  atom->add_callback(Atom::GROW);
+  atom->add_callback(Atom::RESTART);
+  for (int i = 0; i < atom->nlocal; i++) FixNospdHeat::set_arrays(i);
+}
+
+/* ---------------------------------------------------------------------- */
+
+FixNospdHeat::~FixNospdHeat()
+{
+  // at LAMMPS's end Force goes first
+  if (lmp->force && lmp->force->pair)
+    if (auto *p = PairPeriNospdBase::find(lmp->force))
+      if (p->attached_heat() == this) p->attach_heat(nullptr);
+  atom->delete_callback(id, Atom::GROW);
+  atom->delete_callback(id, Atom::RESTART);
+  memory->destroy(tfield);
+  memory->destroy(aux);
+}
+
+/* ---------------------------------------------------------------------- */
+
+int FixNospdHeat::setmask()
+{
+  return END_OF_STEP;
+}
+
+/* ----------------------------------------------------------------------
+   fix ID group nospd/heat keyword values ...
+     initial T | v_name          temperature of points without one (default T_ref)
+     fixed group T | v_name      held temperature
+     convection group h T_inf    surface loss h A (T - T_inf)
+     flux group q | v_name       surface input q A (W/m^2)
+     source s | v_name           volumetric source (W/m^3)
+     substeps auto | N
+------------------------------------------------------------------------- */
+
+void FixNospdHeat::parse(int narg, char **arg)
+{
+  int i = 3;
+  auto need = [&](int n, const char *key) {
+    if (i + n >= narg) error->all(FLERR, "{}: keyword {} needs {} value(s)", CMD, key, n);
+  };
+  auto group_of = [&](const char *name, const char *key) {
+    const int g = group->find(name);
+    if (g < 0) error->all(FLERR, "{}: {} group {} does not exist", CMD, key, name);
+    return g;
+  };
+  while (i < narg) {
+    const std::string key = arg[i];
+    if (key == "initial") {
+      need(1, "initial");
+      initial = value_of(arg[i + 1], "initial", true);
+      have_initial = true;
+      i += 2;
+    } else if (key == "fixed" || key == "flux") {
+      need(2, key.c_str());
+      Condition c;
+      c.kind = key == "fixed" ? Condition::FIXED : Condition::FLUX;
+      c.group = arg[i + 1];
+      c.groupbit = group->bitmask[group_of(arg[i + 1], key.c_str())];
+      c.value = value_of(arg[i + 2], key.c_str(), true);
+      conditions.push_back(c);
+      i += 3;
+    } else if (key == "convection") {
+      need(3, "convection");
+      Condition c;
+      c.kind = Condition::CONVECTION;
+      c.group = arg[i + 1];
+      c.groupbit = group->bitmask[group_of(arg[i + 1], "convection")];
+      c.value = value_of(arg[i + 2], "convection h", false);
+      if (!(c.value.number > 0.0))
+        error->all(FLERR, "{}: convection h must be > 0 (W/m^2/K), got {}", CMD, arg[i + 2]);
+      c.T_inf = NOSPD_INPUT::real(error, CMD, "convection T_inf", arg[i + 3]);
+      conditions.push_back(c);
+      i += 4;
+    } else if (key == "source") {
+      need(1, "source");
+      source = value_of(arg[i + 1], "source", true);
+      have_source = true;
+      i += 2;
+    } else if (key == "substeps") {
+      need(1, "substeps");
+      substeps_user = strcmp(arg[i + 1], "auto") == 0
+          ? 0
+          : NOSPD_INPUT::integer(error, CMD, "substeps", arg[i + 1], 1, 1000000);
+      i += 2;
+    } else
+      error->all(FLERR, "{}: unknown keyword '{}' (initial, fixed, convection, flux, source, "
+                 "substeps)", CMD, key);
+  }
+}
+
+FixNospdHeat::Value FixNospdHeat::value_of(const char *word, const char *what, bool allow_var)
+{
+  Value v;
+  if (strncmp(word, "v_", 2) == 0) {
+    if (!allow_var) error->all(FLERR, "{}: {} takes a number, not a variable ({})", CMD, what, word);
+    v.var = word + 2;
+  } else
+    v.number = NOSPD_INPUT::real(error, CMD, what, word);
+  return v;
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixNospdHeat::resolve(Value &v, const char *what)
+{
+  if (v.var.empty()) return;
+  v.index = input->variable->find(v.var.c_str());
+  if (v.index < 0) error->all(FLERR, "{}: {} variable {} does not exist", CMD, what, v.var);
+  if (input->variable->equalstyle(v.index))
+    v.style = 1;
+  else if (input->variable->atomstyle(v.index))
+    v.style = 2;
+  else
+    error->all(FLERR, "{}: {} variable {} is neither equal- nor atom-style", CMD, what, v.var);
+}
+
+// a value per owned atom (out[i]); a non-finite one is an error
+void FixNospdHeat::evaluate(const Value &v, std::vector<double> &out)
+{
+  const int nlocal = atom->nlocal;
+  out.assign(nlocal, v.number);
+  if (v.style == 1) {
+    const double x = input->variable->compute_equal(v.index);
+    out.assign(nlocal, x);
+  } else if (v.style == 2) {
+    input->variable->compute_atom(v.index, igroup, out.data(), 1, 0);
+  }
+  for (int i = 0; i < nlocal; i++)
+    if ((atom->mask[i] & groupbit) && !std::isfinite(out[i]))
+      error->one(FLERR, "{}: variable {} gives {} at atom {} on step {}", CMD, v.var, out[i],
+                 atom->tag[i], update->ntimestep);
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixNospdHeat::init()
+{
+  pair = PairPeriNospdBase::find(force);
+  if (!pair)
+    error->all(FLERR, "{} needs pair_style peri/nospd or peri/nospd/hs (alone or in pair "
+               "hybrid): it conducts on their bond families", CMD);
+  if (pair->temperature_given())
+    error->all(FLERR, "{}: pair_style {} has its own temperature keyword; fix nospd/heat owns "
+               "the temperature: drop the pair style's temperature keyword", CMD,
+               force->pair_style);
+  if (auto *other = pair->attached_heat(); other && other != this)
+    error->all(FLERR, "{}: fix {} already owns the temperature; one fix nospd/heat per run",
+               CMD, other->id);
+  pair->attach_heat(this);
+  bonds = dynamic_cast<FixNospdBonds *>(modify->get_fix_by_id(FixNospdBonds::ID));
+  if (!atom->rmass_flag || !atom->vfrac_flag)
+    error->all(FLERR, "{} needs atom_style peri (density as rmass, volume as vfrac)", CMD);
+  resolve(initial, "initial");
+  resolve(source, "source");
+  for (auto &c : conditions) {
+    const int g = group->find(c.group);
+    if (g < 0) error->all(FLERR, "{}: group {} was deleted", CMD, c.group);
+    c.groupbit = group->bitmask[g];
+    resolve(c.value, c.kind == Condition::FIXED ? "fixed" : "flux");
+  }
+  const int ntypes = atom->ntypes;
+  k_type.assign(ntypes + 1, 0.0);
+  c_type.assign(ntypes + 1, 0.0);
+  for (int t = 1; t <= ntypes; t++) {
+    if (!pair->owns_type(t)) continue;
+    k_type[t] = pair->thermal_law(t).k;
+    c_type[t] = pair->thermal_law(t).c;
+  }
+  check_types_and_groups();
+  initialize_new_points();
+  coef_version = -1;
+}
+
+/* ----------------------------------------------------------------------
+   every point of the group conducts; every fixed group has points
+------------------------------------------------------------------------- */
+
+void FixNospdHeat::check_types_and_groups()
+{
+  const int ntypes = atom->ntypes;
+  std::vector<int> bad(ntypes + 1, 0), all(ntypes + 1, 0);
+  for (int i = 0; i < atom->nlocal; i++)
+    if ((atom->mask[i] & groupbit) && !(k_type[atom->type[i]] > 0.0)) bad[atom->type[i]] = 1;
+  MPI_Allreduce(bad.data(), all.data(), ntypes + 1, MPI_INT, MPI_MAX, world);
+  for (int t = 1; t <= ntypes; t++)
+    if (all[t])
+      error->all(FLERR, "{}: atoms of type {} in group {} have no conduction: give "
+                 "'conduction k c' in their pair_coeff (conductivity W/m/K, specific heat "
+                 "J/kg/K)", CMD, t, group->names[igroup]);
+  for (const auto &c : conditions) {
+    bigint n = 0, nall = 0;
+    for (int i = 0; i < atom->nlocal; i++)
+      if ((atom->mask[i] & groupbit) && (atom->mask[i] & c.groupbit)) n++;
+    MPI_Allreduce(&n, &nall, 1, MPI_LMP_BIGINT, MPI_SUM, world);
+    if (nall == 0)
+      error->all(FLERR, "{}: group {} has no atoms of group {}: its condition would do "
+                 "nothing", CMD, c.group, group->names[igroup]);
+  }
+}
+
+/* ----------------------------------------------------------------------
+   points without a temperature (new, or the first run): initial, else the
+   type's T_ref
+------------------------------------------------------------------------- */
+
+void FixNospdHeat::initialize_new_points()
+{
+  const int nlocal = atom->nlocal;
+  int any = 0, anyall = 0;
+  for (int i = 0; i < nlocal; i++)
+    if (std::isnan(tfield[i])) any = 1;
+  MPI_Allreduce(&any, &anyall, 1, MPI_INT, MPI_MAX, world);
+  if (!anyall) return;
+  std::vector<double> T0;
+  if (have_initial) evaluate(initial, T0);
+  for (int i = 0; i < nlocal; i++) {
+    if (!std::isnan(tfield[i])) continue;
+    const int t = atom->type[i];
+    tfield[i] = have_initial ? T0[i] : (pair->owns_type(t) ? pair->thermal_law(t).T_ref : 0.0);
+    aux[i][SEEN] = pair->adiabatic_heat(i);
+  }
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixNospdHeat::setup(int /*vflag*/)
+{
+  if (!bonds || !bonds->bond_arrays_current())
+    error->all(FLERR, "{}: the bond families are not built (a run of the pair style builds "
+               "them before its first force)", CMD);
+  calibrate();
+  comm->forward_comm(this);
+  build_coefficients();
+  dt_stable = stable_step();
+  step_sources();
+  apply_fixed();
+  const double dt = update->dt;
+  nsub = substeps_user ? substeps_user : std::max(1, (int) std::ceil(dt / dt_stable));
+  if (!std::isfinite(dt_stable)) nsub = substeps_user ? substeps_user : 1;
+  if (comm->me == 0)
+    utils::logmesg(lmp, "{}: stable thermal step {:.6g} (forward Euler bound), {} substep(s) "
+                   "of {:.6g} per step of {:.6g}\n", CMD, dt_stable, nsub, dt / nsub, dt);
+  if (dt / nsub > dt_stable && !warned_step) {
+    warned_step = true;
+    error->warning(FLERR, "{}: thermal step {:.6g} (timestep / substeps {}) is above the stable "
+                   "bound {:.6g}: temperatures may oscillate and grow; use substeps auto or "
+                   "substeps {} or more", CMD, dt / nsub, nsub, dt_stable,
+                   (int) std::ceil(dt / dt_stable));
+  }
+}
+
+/* ----------------------------------------------------------------------
+   kappa and exposed area of points without them, from their families as
+   built (a point created later calibrates at the next setup)
+------------------------------------------------------------------------- */
+
+void FixNospdHeat::calibrate()
+{
+  const int nlocal = atom->nlocal, dim = domain->dimension;
+  const double t = bonds->get_model().thickness;
+  const double *vfrac = atom->vfrac;
+  std::vector<std::array<double, 3>> xi;
+  for (int i = 0; i < nlocal; i++) {
+    if (aux[i][KAPPA] >= 0.0) continue;
+    if (!(atom->mask[i] & groupbit)) {
+      aux[i][KAPPA] = 0.0;
+      continue;
+    }
+    xi.clear();
+    NOSPD::Mat3 M = NOSPD::Mat3::Zero();
+    for (int b = bonds->bond_first[i]; b < bonds->bond_first[i + 1]; b++) {
+      std::array<double, 3> v;
+      bonds->bond_vector(i, b, v.data());
+      xi.push_back(v);
+      NOSPD::Heat::add_moment(M, v.data(), vfrac[bonds->bond_j[b]]);
+    }
+    aux[i][KAPPA] = NOSPD::Heat::micro_conductivity(k_type[atom->type[i]], M);
+    const double V = vfrac[i];
+    const double h = dim == 3 ? std::cbrt(V) : std::sqrt(V / t);
+    const int faces = NOSPD::Heat::exposed_faces(reinterpret_cast<const double(*)[3]>(xi.data()),
+                                                 (int) xi.size(), h, dim);
+    aux[i][AREA] = faces * NOSPD::Heat::face_area(V, dim, t);
+  }
+}
+
+/* ----------------------------------------------------------------------
+   c_b of every bond of the owned points (nospd_heat.h); ghost kappas from
+   the last forward communication.  Points outside the group have kappa 0.
+------------------------------------------------------------------------- */
+
+void FixNospdHeat::build_coefficients()
+{
+  const int nlocal = atom->nlocal;
+  const double *vfrac = atom->vfrac;
+  coef.assign(bonds->bond_first[nlocal], 0.0);
+  for (int i = 0; i < nlocal; i++) {
+    if (!(aux[i][KAPPA] > 0.0)) continue;
+    for (int b = bonds->bond_first[i]; b < bonds->bond_first[i + 1]; b++) {
+      const int j = bonds->bond_j[b];
+      double v[3];
+      bonds->bond_vector(i, b, v);
+      const double len = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+      coef[b] = NOSPD::Heat::bond_coefficient(aux[i][KAPPA], aux[j][KAPPA], len, vfrac[i], vfrac[j]);
+    }
+  }
+  coef_version = bonds->bond_version;
+  coef_atoms = nlocal;
+}
+
+double FixNospdHeat::capacity(int i) const
+{
+  return atom->rmass[i] * c_type[atom->type[i]] * atom->vfrac[i];
+}
+
+// the smallest bound over the group's points (global); breaks only raise it
+double FixNospdHeat::stable_step() const
+{
+  const int nlocal = atom->nlocal;
+  double lo = HUGE_VAL;
+  for (int i = 0; i < nlocal; i++) {
+    if (!(atom->mask[i] & groupbit)) continue;
+    double cs = 0.0;
+    for (int b = bonds->bond_first[i]; b < bonds->bond_first[i + 1]; b++) cs += coef[b];
+    for (const auto &c : conditions)
+      if (c.kind == Condition::CONVECTION && (atom->mask[i] & c.groupbit))
+        cs += c.value.number * aux[i][AREA];
+    lo = std::min(lo, NOSPD::Heat::step_bound(capacity(i), cs));
+  }
+  double all = lo;
+  MPI_Allreduce(&lo, &all, 1, MPI_DOUBLE, MPI_MIN, world);
+  return all;
+}
+
+/* ----------------------------------------------------------------------
+   one MD step: the law's heating into the field, then nsub explicit steps
+------------------------------------------------------------------------- */
+
+void FixNospdHeat::end_of_step()
+{
+  move_plastic_heat();
+  step_sources();
+  const double dts = update->dt / nsub;
+  for (int s = 0; s < nsub; s++) substep(dts);
+}
+
+// this step's values of the conditions and the source, per owned atom
+void FixNospdHeat::step_sources()
+{
+  values.resize(conditions.size());
+  for (size_t n = 0; n < conditions.size(); n++) evaluate(conditions[n].value, values[n]);
+  if (have_source)
+    evaluate(source, extra);
+  else
+    extra.assign(atom->nlocal, 0.0);
+}
+
+void FixNospdHeat::move_plastic_heat()
+{
+  for (int i = 0; i < atom->nlocal; i++) {
+    if (!(atom->mask[i] & groupbit)) continue;
+    const double h = pair->adiabatic_heat(i, true), d = h - aux[i][SEEN];
+    if (d == 0.0) continue;
+    tfield[i] += d;
+    aux[i][SEEN] = h;
+    plastic_in += capacity(i) * d;
+  }
+}
+
+void FixNospdHeat::substep(double dt)
+{
+  comm->forward_comm(this);
+  const int nlocal = atom->nlocal;
+  if (!bonds->bond_arrays_current())
+    error->one(FLERR, "{}: the bond lists do not cover the atoms on step {}", CMD,
+               update->ntimestep);
+  if (coef_version != bonds->bond_version || coef_atoms != nlocal) build_coefficients();
+  rate.resize(nlocal);
+  NOSPD::Heat::exchange(bonds->bond_first, bonds->bond_j, coef.data(), tfield, 0, nlocal,
+                        rate.data());
+  const double *vfrac = atom->vfrac;
+  const int *mask = atom->mask;
+  for (int i = 0; i < nlocal; i++) {
+    if (!(mask[i] & groupbit)) continue;
+    double q = extra[i] * vfrac[i];    // volumetric source
+    for (size_t n = 0; n < conditions.size(); n++) {
+      const auto &c = conditions[n];
+      if (!(mask[i] & c.groupbit) || c.kind == Condition::FIXED) continue;
+      if (c.kind == Condition::CONVECTION)
+        q -= c.value.number * aux[i][AREA] * (tfield[i] - c.T_inf);
+      else
+        q += values[n][i] * aux[i][AREA];
+    }
+    inflow += dt * q;
+    tfield[i] += dt * (rate[i] + q) / capacity(i);
+  }
+  apply_fixed();
+}
+
+// held temperatures, last; what holding them puts in counts as inflow
+void FixNospdHeat::apply_fixed()
+{
+  const int *mask = atom->mask;
+  for (size_t n = 0; n < conditions.size(); n++) {
+    const auto &c = conditions[n];
+    if (c.kind != Condition::FIXED) continue;
+    for (int i = 0; i < atom->nlocal; i++) {
+      if (!(mask[i] & groupbit) || !(mask[i] & c.groupbit)) continue;
+      const double T = values[n][i];
+      inflow += capacity(i) * (T - tfield[i]);
+      tfield[i] = T;
+    }
+  }
+}
+
+/* ---------------------------------------------------------------------- */
+
+double FixNospdHeat::base_temperature(int i, int /*itype*/) const
+{
+  return tfield[i] - aux[i][SEEN];
+}
+
+void FixNospdHeat::prepare_flux()
+{
+  comm->forward_comm(this);
+}
+
+void FixNospdHeat::heat_flux(int i, double *q) const
+{
+  q[0] = q[1] = q[2] = 0.0;
+  if (!(atom->mask[i] & groupbit) || !bonds || !bonds->bond_arrays_current()) return;
+  double s[3] = {0.0, 0.0, 0.0};
+  for (int b = bonds->bond_first[i]; b < bonds->bond_first[i + 1]; b++) {
+    double v[3];
+    bonds->bond_vector(i, b, v);
+    const double d = bonds->bond_w[b] * (tfield[bonds->bond_j[b]] - tfield[i]);
+    for (int a = 0; a < 3; a++) s[a] += d * v[a];
+  }
+  const double *K = bonds->kinv[i];
+  const double k = k_type[atom->type[i]];
+  for (int a = 0; a < 3; a++) q[a] = -k * (K[3 * a] * s[0] + K[3 * a + 1] * s[1] + K[3 * a + 2] * s[2]);
+}
+
+/* ---------------------------------------------------------------------- */
+
+double FixNospdHeat::compute_scalar()
+{
+  double e = 0.0, all = 0.0;
+  for (int i = 0; i < atom->nlocal; i++)
+    if (atom->mask[i] & groupbit) e += capacity(i) * tfield[i];
+  MPI_Allreduce(&e, &all, 1, MPI_DOUBLE, MPI_SUM, world);
+  return all;
+}
+
+// 1 stable thermal step, 2 substeps, 3 energy put in by the conditions and
+// the source (cumulative), 4 plastic heat moved into the field (cumulative)
+double FixNospdHeat::compute_vector(int n)
+{
+  if (n == 0) return dt_stable;
+  if (n == 1) return nsub;
+  double v = n == 2 ? inflow : plastic_in, all = 0.0;
+  MPI_Allreduce(&v, &all, 1, MPI_DOUBLE, MPI_SUM, world);
+  return all;
+}
+
+/* ---------------------------------------------------------------------- */
+
+int FixNospdHeat::pack_forward_comm(int n, int *list, double *buf, int /*pbc_flag*/, int * /*pbc*/)
+{
+  int m = 0;
+  for (int k = 0; k < n; k++) {
+    buf[m++] = tfield[list[k]];
+    buf[m++] = aux[list[k]][KAPPA];
+  }
+  return m;
+}
+
+void FixNospdHeat::unpack_forward_comm(int n, int first, double *buf)
+{
+  int m = 0;
+  for (int i = first; i < first + n; i++) {
+    tfield[i] = buf[m++];
+    aux[i][KAPPA] = buf[m++];
+  }
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixNospdHeat::grow_arrays(int nmax)
+{
+  memory->grow(tfield, nmax, "nospd/heat:tfield");
+  memory->grow(aux, nmax, NAUX, "nospd/heat:aux");
+  vector_atom = tfield;
+}
+
+void FixNospdHeat::copy_arrays(int i, int j, int /*delflag*/)
+{
+  tfield[j] = tfield[i];
+  for (int k = 0; k < NAUX; k++) aux[j][k] = aux[i][k];
+}
+
+void FixNospdHeat::set_arrays(int i)
+{
+  tfield[i] = std::numeric_limits<double>::quiet_NaN();    // set at the next init
+  aux[i][SEEN] = 0.0;
+  aux[i][KAPPA] = -1.0;    // calibrated at the next setup
+  aux[i][AREA] = 0.0;
+}
+
+int FixNospdHeat::pack_exchange(int i, double *buf)
+{
+  buf[0] = tfield[i];
+  for (int k = 0; k < NAUX; k++) buf[1 + k] = aux[i][k];
+  return 1 + NAUX;
+}
+
+int FixNospdHeat::unpack_exchange(int i, double *buf)
+{
+  tfield[i] = buf[0];
+  for (int k = 0; k < NAUX; k++) aux[i][k] = buf[1 + k];
+  return 1 + NAUX;
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixNospdHeat::write_restart(FILE *fp)
+{
+  double v[2] = {compute_vector(2), compute_vector(3)};
+  if (comm->me == 0) {
+    int size = 2 * sizeof(double);
+    fwrite(&size, sizeof(int), 1, fp);
+    fwrite(v, sizeof(double), 2, fp);
+  }
+}
+
+void FixNospdHeat::restart(char *buf)
+{
+  const auto *v = reinterpret_cast<const double *>(buf);
+  inflow = comm->me == 0 ? v[0] : 0.0;
+  plastic_in = comm->me == 0 ? v[1] : 0.0;
+}
+
+int FixNospdHeat::pack_restart(int i, double *buf)
+{
+  buf[0] = 2 + NAUX;
+  return 1 + pack_exchange(i, buf + 1);
+}
+
+void FixNospdHeat::unpack_restart(int nlocal, int nth)
+{
+  double **extra_rec = atom->extra;
+  int m = 0;
+  for (int k = 0; k < nth; k++) m += static_cast<int>(extra_rec[nlocal][m]);
+  unpack_exchange(nlocal, &extra_rec[nlocal][m + 1]);
+}
+
+int FixNospdHeat::size_restart(int /*i*/)
+{
+  return 2 + NAUX;
+}
+
+int FixNospdHeat::maxsize_restart()
+{
+  return 2 + NAUX;
+}
+
+double FixNospdHeat::memory_usage()
+{
+  return (double) atom->nmax * (1 + NAUX) * sizeof(double) + coef.capacity() * sizeof(double);
+}
