@@ -31,6 +31,7 @@ using namespace LAMMPS_NS;
 using namespace FixConst;
 
 static const char *CMD = "fix nospd/heat";
+static constexpr int MAX_SUBSTEPS = 1000000;
 
 /* ---------------------------------------------------------------------- */
 
@@ -75,7 +76,7 @@ FixNospdHeat::~FixNospdHeat()
 
 int FixNospdHeat::setmask()
 {
-  return END_OF_STEP;
+  return POST_INTEGRATE;
 }
 
 /* ----------------------------------------------------------------------
@@ -136,7 +137,7 @@ void FixNospdHeat::parse(int narg, char **arg)
       need(1, "substeps");
       substeps_user = strcmp(arg[i + 1], "auto") == 0
           ? 0
-          : NOSPD_INPUT::integer(error, CMD, "substeps", arg[i + 1], 1, 1000000);
+          : NOSPD_INPUT::integer(error, CMD, "substeps", arg[i + 1], 1, MAX_SUBSTEPS);
       i += 2;
     } else
       error->all(FLERR, "{}: unknown keyword '{}' (initial, fixed, convection, flux, source, "
@@ -291,8 +292,12 @@ void FixNospdHeat::setup(int /*vflag*/)
   step_sources();
   apply_fixed();
   const double dt = update->dt;
-  nsub = substeps_user ? substeps_user : std::max(1, (int) std::ceil(dt / dt_stable));
-  if (!std::isfinite(dt_stable)) nsub = substeps_user ? substeps_user : 1;
+  const double need = std::isfinite(dt_stable) ? std::ceil(dt / dt_stable) : 1.0;
+  if (!substeps_user && !(need <= MAX_SUBSTEPS))
+    error->all(FLERR, "{}: the stable thermal step {:.6g} is below timestep {:.6g} / {}: check "
+               "conduction k, c, density and convection h, or reduce the timestep", CMD,
+               dt_stable, dt, MAX_SUBSTEPS);
+  nsub = substeps_user ? substeps_user : std::max(1, (int) need);
   if (comm->me == 0)
     utils::logmesg(lmp, "{}: stable thermal step {:.6g} (forward Euler bound), {} substep(s) "
                    "of {:.6g} per step of {:.6g}\n", CMD, dt_stable, nsub, dt / nsub, dt);
@@ -388,10 +393,11 @@ double FixNospdHeat::stable_step() const
 }
 
 /* ----------------------------------------------------------------------
-   one MD step: the law's heating into the field, then nsub explicit steps
+   one MD step, before its forces: the last step's accepted heating into the
+   field, then nsub explicit steps
 ------------------------------------------------------------------------- */
 
-void FixNospdHeat::end_of_step()
+void FixNospdHeat::post_integrate()
 {
   move_plastic_heat();
   step_sources();
@@ -448,6 +454,10 @@ void FixNospdHeat::substep(double dt)
     }
     inflow += dt * q;
     tfield[i] += dt * (rate[i] + q) / capacity(i);
+    if (!std::isfinite(tfield[i]))
+      error->one(FLERR, "{}: atom {} reached temperature {} on step {} (its flux {:.6g} W, source "
+                 "{:.6g} W): check the flux, source and convection values", CMD, atom->tag[i],
+                 tfield[i], update->ntimestep, rate[i], q);
   }
   apply_fixed();
 }
@@ -502,20 +512,33 @@ double FixNospdHeat::compute_scalar()
 {
   double e = 0.0, all = 0.0;
   for (int i = 0; i < atom->nlocal; i++)
-    if (atom->mask[i] & groupbit) e += capacity(i) * tfield[i];
+    if (atom->mask[i] & groupbit) e += capacity(i) * (tfield[i] + pending(i));
   MPI_Allreduce(&e, &all, 1, MPI_DOUBLE, MPI_SUM, world);
   return all;
 }
 
 // 1 stable thermal step, 2 substeps, 3 energy put in by the conditions and
-// the source (cumulative), 4 plastic heat moved into the field (cumulative)
+// the source, 4 plastic heating (cumulative; 4 and the scalar count the
+// heating of the last step, which moves into the field at the next)
 double FixNospdHeat::compute_vector(int n)
 {
   if (n == 0) return dt_stable;
   if (n == 1) return nsub;
-  double v = n == 2 ? inflow : plastic_in, all = 0.0;
+  double v = inflow;
+  if (n == 3) {
+    v = plastic_in;
+    for (int i = 0; i < atom->nlocal; i++)
+      if (atom->mask[i] & groupbit) v += capacity(i) * pending(i);
+  }
+  double all = 0.0;
   MPI_Allreduce(&v, &all, 1, MPI_DOUBLE, MPI_SUM, world);
   return all;
+}
+
+// the law's heating of owned atom i not yet moved into the field
+double FixNospdHeat::pending(int i) const
+{
+  return pair ? pair->adiabatic_heat(i, true) - aux[i][SEEN] : 0.0;
 }
 
 /* ---------------------------------------------------------------------- */
@@ -580,7 +603,8 @@ int FixNospdHeat::unpack_exchange(int i, double *buf)
 
 void FixNospdHeat::write_restart(FILE *fp)
 {
-  double v[2] = {compute_vector(2), compute_vector(3)};
+  double v[2] = {compute_vector(2), 0.0};
+  MPI_Allreduce(&plastic_in, &v[1], 1, MPI_DOUBLE, MPI_SUM, world);
   if (comm->me == 0) {
     int size = 2 * sizeof(double);
     fwrite(&size, sizeof(int), 1, fp);

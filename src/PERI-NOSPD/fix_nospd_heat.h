@@ -22,8 +22,10 @@ class FixNospdBonds;
 class PairPeriNospdBase;
 
 /* fix nospd/heat: bond-based peridynamic heat conduction on the points of
-   a correspondence body (nospd_heat.h), advanced explicitly at the end of
-   each MD step (subcycled below the stable thermal step), with fixed
+   a correspondence body (nospd_heat.h), advanced explicitly once per MD
+   step after the positions' update and before the forces (subcycled below
+   the stable thermal step), so that a step's forces and the temperature
+   written at its end agree (a restart's setup forces are the run's), with fixed
    temperatures, convection, surface flux and a volumetric source.  Owner
    of the temperature field: the pair style's laws, compute nospd/atom and
    dumps (f_ID) read it here.  Plastic heating (pair_coeff heat cp chi)
@@ -36,7 +38,7 @@ class FixNospdHeat : public Fix {
   int setmask() override;
   void init() override;
   void setup(int) override;
-  void end_of_step() override;
+  void post_integrate() override;
   double compute_scalar() override;
   double compute_vector(int) override;
   int pack_forward_comm(int, int *, double *, int, int *) override;
@@ -111,6 +113,7 @@ class FixNospdHeat : public Fix {
   void step_sources();
   void apply_fixed();
   double capacity(int i) const;
+  double pending(int i) const;
   double stable_step() const;
   void check_types_and_groups();
 };

@@ -171,6 +171,7 @@ std::vector<Case> make_cases()
       {"heat", "yield 250e6", "heat 460 0.9", "heat"},
       {"jc_failure", JC, JCF, "jc_failure"},
       {"drucker_prager", "", "drucker_prager 30 10 5e6 1e9", "drucker_prager"},
+      {"conduction", "", "conduction 400 385", "conduction"},
   };
   for (const auto &kw : inelastic) {
     std::istringstream in(kw.words);
@@ -282,6 +283,22 @@ std::vector<Case> make_cases()
   for (size_t k = 0; k < 4; k++)
     cs.push_back({"damage_precrack_2d_" + std::to_string(k + 1), 2, plastic,
                   fix + "none precrack " + with_hole(p2, k), run, Kind::REAL, "precrack"});
+
+  // ---- fix nospd/heat (on a conducting material)
+  const std::vector<std::string> conducting = {"pair_style peri/nospd",
+                                               ELASTIC + " conduction 400 385"};
+  const std::vector<Fx> heats = {
+      {"initial", "initial {300}", "initial", Kind::REAL},
+      {"fixed", "fixed all {350}", "fixed", Kind::REAL},
+      {"convection_h", "convection all {100} 300", "convection", Kind::REAL},
+      {"convection_T", "convection all 100 {300}", "convection", Kind::REAL},
+      {"flux", "flux all {1e4}", "flux", Kind::REAL},
+      {"source", "source {1e6}", "source", Kind::REAL},
+      {"substeps", "substeps {2}", "substeps", Kind::STRICT},
+  };
+  for (const auto &f : heats)
+    cs.push_back({"heat_" + f.name, 3, conducting, "fix heat all nospd/heat " + f.args, run,
+                  f.kind, f.expect});
 
   // ---- the computes take no number: a number where a quantity goes is refused
   cs.push_back({"compute_atom_quantity", 3, {"pair_style peri/nospd", ELASTIC},
