@@ -9,7 +9,8 @@
 # tiled communication balanced by recursive bisection, d2 = the 2D plane-strain
 # square (`-var dim 2`, BENCH_N2 points per side, default 200; peri/lps has
 # no 2D form, so its ratio is to the 3D block's), p3 = the periodic n^3 box
-# (`-var periodic yes`: no surfaces, ghosts to 2 delta).  BENCH_ONLY (an extended regular
+# (`-var periodic yes`: no surfaces, ghosts to 2 delta), heat = the block with
+# fix nospd/heat (`-var heat yes`).  BENCH_ONLY (an extended regular
 # expression) keeps the rows whose launch:style|settings|coeff matches it;
 # peri/lps always runs, for the ratio.
 set -euo pipefail
@@ -34,7 +35,8 @@ declare -a MODELS=("lps|" "pmb|" "nospd|stabilization none" "nospd|stabilization
   "omp2:nospd|stabilization silling 0.5" "np2:nospd|stabilization silling 0.5"
   "np2:lps|" "omp2:hs|form II" "np2rcb:nospd|stabilization silling 0.5" "np2rcb:lps|"
   "d2:nospd|stabilization silling 0.5" "d2:hs|form II" "d2:hs|form II stencil no"
-  "p3:nospd|stabilization silling 0.5" "p3:hs|form II" "p3:hs|form II stencil no")
+  "p3:nospd|stabilization silling 0.5" "p3:hs|form II" "p3:hs|form II stencil no"
+  "heat:nospd|stabilization silling 0.5")
 # the rows this run keeps, parsed once
 declare -a STYLE SETTINGS COEFF LAUNCH
 for m in "${MODELS[@]}"; do
@@ -60,6 +62,7 @@ set_launch() {
     np2rcb) pre=(mpirun --allow-run-as-root -np 2); post=(-var rcb yes); ranks=2 ;;
     d2) post=(-var dim 2); n=${BENCH_N2:-200} ;;
     p3) post=(-var periodic yes) ;;
+    heat) post=(-var heat yes) ;;
   esac
 }
 for r in $(seq "$REPEATS"); do

@@ -339,10 +339,11 @@ def references(line):
     for k in range(3, len(w) - 1):
         if w[k] == "group":
             refs.append(("group", w[k + 1]))
-    if w[0] == "group" and "region" in w:
-        k = w.index("region")
-        if k + 1 < len(w):
-            refs.append(("region", w[k + 1]))
+    for kind in ("region", "variable"):
+        if w[0] == "group" and kind in w:
+            k = w.index(kind)
+            if k + 1 < len(w):
+                refs.append((kind, w[k + 1]))
     return refs
 
 
@@ -396,7 +397,10 @@ def page_tests(lines):
         need, todo, auto = [], [line], []
         while todo:
             cur = todo.pop()
-            for ref in references(cur):
+            # a word naming a group of an earlier line (a keyword's group, as
+            # fix nospd/heat's fixed, convection and flux take)
+            named = [("group", x) for x in cur.split()[3:] if ("group", x) in defs]
+            for ref in references(cur) + named:
                 if ref in defs and defs[ref] not in need and defs[ref] != line:
                     need.append(defs[ref])
                     todo.append(defs[ref])
