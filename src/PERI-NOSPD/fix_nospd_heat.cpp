@@ -32,6 +32,8 @@ using namespace FixConst;
 
 static const char *CMD = "fix nospd/heat";
 static constexpr int MAX_SUBSTEPS = 1000000;
+static constexpr int FRAME_CHECK_EVERY = 100;
+static constexpr double FRAME_WARN_STRAIN = 0.1;
 
 /* ---------------------------------------------------------------------- */
 
@@ -47,7 +49,7 @@ FixNospdHeat::FixNospdHeat(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, narg, a
   peratom_freq = 1;
   restart_global = 1;
   restart_peratom = 1;
-  comm_forward = 2;
+  comm_forward = 3;
   create_attribute = 1;
   nevery = 1;
   parse(narg, arg);
@@ -76,7 +78,7 @@ FixNospdHeat::~FixNospdHeat()
 
 int FixNospdHeat::setmask()
 {
-  return POST_INTEGRATE;
+  return PRE_FORCE;
 }
 
 /* ----------------------------------------------------------------------
@@ -87,6 +89,7 @@ int FixNospdHeat::setmask()
      flux group q | v_name       surface input q A (W/m^2)
      source s | v_name           volumetric source (W/m^3)
      substeps auto | N
+     frame reference | current    where the bonds conduct (default reference)
 ------------------------------------------------------------------------- */
 
 void FixNospdHeat::parse(int narg, char **arg)
@@ -139,9 +142,18 @@ void FixNospdHeat::parse(int narg, char **arg)
           ? 0
           : NOSPD_INPUT::integer(error, CMD, "substeps", arg[i + 1], 1, MAX_SUBSTEPS);
       i += 2;
+    } else if (key == "frame") {
+      need(1, "frame");
+      if (strcmp(arg[i + 1], "reference") == 0)
+        current_frame = false;
+      else if (strcmp(arg[i + 1], "current") == 0)
+        current_frame = true;
+      else
+        error->all(FLERR, "{}: frame expects reference or current, got '{}'", CMD, arg[i + 1]);
+      i += 2;
     } else
       error->all(FLERR, "{}: unknown keyword '{}' (initial, fixed, convection, flux, source, "
-                 "substeps)", CMD, key);
+                 "substeps, frame)", CMD, key);
   }
 }
 
@@ -286,6 +298,7 @@ void FixNospdHeat::setup(int /*vflag*/)
     error->all(FLERR, "{}: the bond families are not built (a run of the pair style builds "
                "them before its first force)", CMD);
   calibrate();
+  if (current_frame) step_geometry();
   comm->forward_comm(this);
   build_coefficients();
   dt_stable = stable_step();
@@ -338,9 +351,9 @@ void FixNospdHeat::calibrate()
     aux[i][KAPPA] = NOSPD::Heat::micro_conductivity(k_type[atom->type[i]], M);
     const double V = vfrac[i];
     const double h = dim == 3 ? std::cbrt(V) : std::sqrt(V / t);
-    const int faces = NOSPD::Heat::exposed_faces(reinterpret_cast<const double(*)[3]>(xi.data()),
-                                                 (int) xi.size(), h, dim);
-    aux[i][AREA] = faces * NOSPD::Heat::face_area(V, dim, t);
+    aux[i][FACES] = NOSPD::Heat::exposed_faces(reinterpret_cast<const double(*)[3]>(xi.data()),
+                                               (int) xi.size(), h, dim);
+    aux[i][AREA0] = NOSPD::Heat::face_area(V, dim, t);
   }
 }
 
@@ -353,19 +366,72 @@ void FixNospdHeat::build_coefficients()
 {
   const int nlocal = atom->nlocal;
   const double *vfrac = atom->vfrac;
+  double **x = atom->x;
   coef.assign(bonds->bond_first[nlocal], 0.0);
   for (int i = 0; i < nlocal; i++) {
-    if (!(aux[i][KAPPA] > 0.0)) continue;
+    if (!(kappa_of(i) > 0.0)) continue;
+    const double vi = current_frame ? vfrac[i] * jcur[i] : vfrac[i];
     for (int b = bonds->bond_first[i]; b < bonds->bond_first[i + 1]; b++) {
       const int j = bonds->bond_j[b];
       double v[3];
-      bonds->bond_vector(i, b, v);
+      if (current_frame)
+        for (int a = 0; a < 3; a++) v[a] = x[j][a] - x[i][a];
+      else
+        bonds->bond_vector(i, b, v);
       const double len = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-      coef[b] = NOSPD::Heat::bond_coefficient(aux[i][KAPPA], aux[j][KAPPA], len, vfrac[i], vfrac[j]);
+      const double vj = current_frame ? vfrac[j] * jcur[j] : vfrac[j];
+      coef[b] = NOSPD::Heat::bond_coefficient(kappa_of(i), kappa_of(j), len, vi, vj);
     }
   }
   coef_version = bonds->bond_version;
   coef_atoms = nlocal;
+}
+
+/* ----------------------------------------------------------------------
+   frame current, once per MD step: kappa from the current family (current
+   bonds, volumes J V), J, and the faces' current area (Nanson)
+------------------------------------------------------------------------- */
+
+void FixNospdHeat::step_geometry()
+{
+  const int nlocal = atom->nlocal, nall = nlocal + atom->nghost;
+  kcur.resize(std::max<size_t>(kcur.size(), atom->nmax));
+  jcur.resize(std::max<size_t>(jcur.size(), atom->nmax));
+  area_now.resize(nlocal);
+  double **x = atom->x;
+  const double *vfrac = atom->vfrac;
+  for (int i = 0; i < nlocal; i++) {
+    const NOSPD::Mat3 F = NOSPD::load(bonds->defgrad[i]);
+    const double J = F.determinant();
+    jcur[i] = J > 0.0 ? J : 1.0;
+  }
+  // the partners' J (ghosts) before the moments that weigh by them
+  comm_mode = 1;
+  comm->forward_comm(this);
+  comm_mode = 0;
+  for (int i = 0; i < nlocal; i++) {
+    kcur[i] = 0.0;
+    area_now[i] = 0.0;
+    if (!(atom->mask[i] & groupbit) || !(aux[i][KAPPA] > 0.0)) continue;
+    NOSPD::Mat3 M = NOSPD::Mat3::Zero();
+    for (int b = bonds->bond_first[i]; b < bonds->bond_first[i + 1]; b++) {
+      const int j = bonds->bond_j[b];
+      const double v[3] = {x[j][0] - x[i][0], x[j][1] - x[i][1], x[j][2] - x[i][2]};
+      NOSPD::Heat::add_moment(M, v, vfrac[j] * jcur[j]);
+    }
+    kcur[i] = NOSPD::Heat::micro_conductivity(k_type[atom->type[i]], M);
+    area_now[i] = NOSPD::Heat::deformed_area((int) aux[i][FACES], aux[i][AREA0],
+                                             NOSPD::load(bonds->defgrad[i]));
+  }
+  for (int i = nlocal; i < nall; i++) kcur[i] = 0.0;    // set by the next forward comm
+  coef_version = -1;
+}
+
+// the exposed area of owned atom i this step
+double FixNospdHeat::area(int i) const
+{
+  return current_frame ? area_now[i]
+                       : NOSPD::Heat::face_count((int) aux[i][FACES]) * aux[i][AREA0];
 }
 
 double FixNospdHeat::capacity(int i) const
@@ -384,7 +450,7 @@ double FixNospdHeat::stable_step() const
     for (int b = bonds->bond_first[i]; b < bonds->bond_first[i + 1]; b++) cs += coef[b];
     for (const auto &c : conditions)
       if (c.kind == Condition::CONVECTION && (atom->mask[i] & c.groupbit))
-        cs += c.value.number * aux[i][AREA];
+        cs += c.value.number * area(i);
     lo = std::min(lo, NOSPD::Heat::step_bound(capacity(i), cs));
   }
   double all = lo;
@@ -397,12 +463,52 @@ double FixNospdHeat::stable_step() const
    field, then nsub explicit steps
 ------------------------------------------------------------------------- */
 
-void FixNospdHeat::post_integrate()
+void FixNospdHeat::pre_force(int /*vflag*/)
 {
   move_plastic_heat();
   step_sources();
+  if (!bonds->bond_arrays_current())
+    error->one(FLERR, "{}: the bond lists do not cover the atoms on step {}", CMD,
+               update->ntimestep);
+  if (current_frame) {
+    step_geometry();
+    comm->forward_comm(this);
+    build_coefficients();
+    dt_stable = stable_step();
+    const double need = std::ceil(update->dt / dt_stable);
+    if (!substeps_user && !(need <= MAX_SUBSTEPS))
+      error->all(FLERR, "{}: step {}: the stable thermal step {:.6g} of the deformed body is "
+                 "below timestep / {}", CMD, update->ntimestep, dt_stable, MAX_SUBSTEPS);
+    nsub = substeps_user ? substeps_user : std::max(1, (int) need);
+  } else if (update->ntimestep % FRAME_CHECK_EVERY == 0)
+    check_frame();
   const double dts = update->dt / nsub;
   for (int s = 0; s < nsub; s++) substep(dts);
+}
+
+/* ----------------------------------------------------------------------
+   frame reference: conduction ignores the deformation; warn once where it
+   is large
+------------------------------------------------------------------------- */
+
+void FixNospdHeat::check_frame()
+{
+  if (warned_frame) return;
+  double big = 0.0, all = 0.0;
+  for (int i = 0; i < atom->nlocal; i++) {
+    if (!(atom->mask[i] & groupbit)) continue;
+    const NOSPD::Mat3 F = NOSPD::load(bonds->defgrad[i]);
+    big = std::max(big, (F - NOSPD::Mat3::Identity()).norm());
+  }
+  MPI_Allreduce(&big, &all, 1, MPI_DOUBLE, MPI_MAX, world);
+  if (all > FRAME_WARN_STRAIN) {
+    warned_frame = true;
+    if (comm->me == 0)
+      error->warning(FLERR, "{}: points deform by up to |F - I| = {:.3g} on step {}; conduction "
+                     "in the reference frame (the default) sees the undeformed bonds, volumes "
+                     "and faces: use frame current for large deformation", CMD, all,
+                     update->ntimestep);
+  }
 }
 
 // this step's values of the conditions and the source, per owned atom
@@ -432,9 +538,6 @@ void FixNospdHeat::substep(double dt)
 {
   comm->forward_comm(this);
   const int nlocal = atom->nlocal;
-  if (!bonds->bond_arrays_current())
-    error->one(FLERR, "{}: the bond lists do not cover the atoms on step {}", CMD,
-               update->ntimestep);
   if (coef_version != bonds->bond_version || coef_atoms != nlocal) build_coefficients();
   rate.resize(nlocal);
   NOSPD::Heat::exchange(bonds->bond_first, bonds->bond_j, coef.data(), tfield, 0, nlocal,
@@ -448,9 +551,9 @@ void FixNospdHeat::substep(double dt)
       const auto &c = conditions[n];
       if (!(mask[i] & c.groupbit) || c.kind == Condition::FIXED) continue;
       if (c.kind == Condition::CONVECTION)
-        q -= c.value.number * aux[i][AREA] * (tfield[i] - c.T_inf);
+        q -= c.value.number * area(i) * (tfield[i] - c.T_inf);
       else
-        q += values[n][i] * aux[i][AREA];
+        q += values[n][i] * area(i);
     }
     inflow += dt * q;
     tfield[i] += dt * (rate[i] + q) / capacity(i);
@@ -503,7 +606,13 @@ void FixNospdHeat::heat_flux(int i, double *q) const
   }
   const double *K = bonds->kinv[i];
   const double k = k_type[atom->type[i]];
-  for (int a = 0; a < 3; a++) q[a] = -k * (K[3 * a] * s[0] + K[3 * a + 1] * s[1] + K[3 * a + 2] * s[2]);
+  NOSPD::Vec3 g;    // grad_X T; frame current: grad_x T = F^-T grad_X T
+  for (int a = 0; a < 3; a++) g(a) = K[3 * a] * s[0] + K[3 * a + 1] * s[1] + K[3 * a + 2] * s[2];
+  if (current_frame) {
+    const NOSPD::Mat3 F = NOSPD::load(bonds->defgrad[i]);
+    if (F.determinant() > 0.0) g = F.inverse().transpose() * g;
+  }
+  for (int a = 0; a < 3; a++) q[a] = -k * g(a);
 }
 
 /* ---------------------------------------------------------------------- */
@@ -543,12 +652,18 @@ double FixNospdHeat::pending(int i) const
 
 /* ---------------------------------------------------------------------- */
 
+// mode 0: temperature and kappa (this frame's); mode 1: J (frame current)
 int FixNospdHeat::pack_forward_comm(int n, int *list, double *buf, int /*pbc_flag*/, int * /*pbc*/)
 {
   int m = 0;
   for (int k = 0; k < n; k++) {
-    buf[m++] = tfield[list[k]];
-    buf[m++] = aux[list[k]][KAPPA];
+    const int j = list[k];
+    if (comm_mode == 1) {
+      buf[m++] = jcur[j];
+      continue;
+    }
+    buf[m++] = tfield[j];
+    buf[m++] = kappa_of(j);
   }
   return m;
 }
@@ -557,8 +672,12 @@ void FixNospdHeat::unpack_forward_comm(int n, int first, double *buf)
 {
   int m = 0;
   for (int i = first; i < first + n; i++) {
+    if (comm_mode == 1) {
+      jcur[i] = buf[m++];
+      continue;
+    }
     tfield[i] = buf[m++];
-    aux[i][KAPPA] = buf[m++];
+    (current_frame ? kcur[i] : aux[i][KAPPA]) = buf[m++];
   }
 }
 
@@ -582,7 +701,8 @@ void FixNospdHeat::set_arrays(int i)
   tfield[i] = std::numeric_limits<double>::quiet_NaN();    // set at the next init
   aux[i][SEEN] = 0.0;
   aux[i][KAPPA] = -1.0;    // calibrated at the next setup
-  aux[i][AREA] = 0.0;
+  aux[i][AREA0] = 0.0;
+  aux[i][FACES] = 0.0;
 }
 
 int FixNospdHeat::pack_exchange(int i, double *buf)

@@ -23,9 +23,10 @@ class PairPeriNospdBase;
 
 /* fix nospd/heat: bond-based peridynamic heat conduction on the points of
    a correspondence body (nospd_heat.h), advanced explicitly once per MD
-   step after the positions' update and before the forces (subcycled below
-   the stable thermal step), so that a step's forces and the temperature
-   written at its end agree (a restart's setup forces are the run's), with fixed
+   step before the forces (subcycled below the stable thermal step), so
+   that a step's forces and the temperature written at its end agree (a
+   restart's setup forces are the run's), in the reference frame or the
+   current one (frame current: bonds, volumes and faces as deformed), with fixed
    temperatures, convection, surface flux and a volumetric source.  Owner
    of the temperature field: the pair style's laws, compute nospd/atom and
    dumps (f_ID) read it here.  Plastic heating (pair_coeff heat cp chi)
@@ -38,7 +39,7 @@ class FixNospdHeat : public Fix {
   int setmask() override;
   void init() override;
   void setup(int) override;
-  void post_integrate() override;
+  void pre_force(int) override;
   double compute_scalar() override;
   double compute_vector(int) override;
   int pack_forward_comm(int, int *, double *, int, int *) override;
@@ -66,9 +67,15 @@ class FixNospdHeat : public Fix {
  private:
   double *tfield;    // per atom (owned and ghost): the temperature (vector_atom)
   // per atom: the law's heating moved into tfield so far, the micro-
-  // conductivity (-1: not calibrated), the exposed area
-  enum { SEEN, KAPPA, AREA, NAUX };
+  // conductivity (-1: not calibrated), the reference area of one face, the
+  // exposed faces (bits, nospd_heat.h)
+  enum { SEEN, KAPPA, AREA0, FACES, NAUX };
   double **aux;
+  // frame current: per atom (owned and ghost) this step's kappa and J, and
+  // per owned atom the exposed area
+  bool current_frame = false;
+  std::vector<double> kcur, jcur, area_now;
+  bool warned_frame = false;
   // boundary conditions and sources, in input order
   struct Value {
     double number = 0.0;
@@ -99,7 +106,7 @@ class FixNospdHeat : public Fix {
   int nsub = 1;
   bool warned_step = false;
   double inflow = 0.0, plastic_in = 0.0;    // cumulative, this rank
-  int comm_mode = 0;                        // 0: T and kappa
+  int comm_mode = 0;                        // 0: T and kappa, 1: J
 
   void parse(int narg, char **arg);
   Value value_of(const char *word, const char *what, bool allow_var);
@@ -110,9 +117,13 @@ class FixNospdHeat : public Fix {
   void build_coefficients();
   void move_plastic_heat();
   void substep(double dt);
+  void step_geometry();
+  void check_frame();
+  double kappa_of(int i) const { return current_frame ? kcur[i] : aux[i][KAPPA]; }
   void step_sources();
   void apply_fixed();
   double capacity(int i) const;
+  double area(int i) const;
   double pending(int i) const;
   double stable_step() const;
   void check_types_and_groups();

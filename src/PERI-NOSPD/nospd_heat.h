@@ -42,6 +42,8 @@ inline void add_moment(Mat3 &M, const double *xi, double V)
 // kappa_i = 2 k / lambda_max(M) (0 for a point with no bonds)
 inline double micro_conductivity(double k, const Mat3 &M)
 {
+  // the iterative solver: the closed form (computeDirect) loses half the
+  // digits where eigenvalues coincide, as they do inside a body
   const double top = Eigen::SelfAdjointEigenSolver<Mat3>(M, Eigen::EigenvaluesOnly).eigenvalues()(2);
   return top > 0.0 ? 2.0 * k / top : 0.0;
 }
@@ -61,12 +63,14 @@ inline double bond_coefficient(double kappa_i, double kappa_j, double len, doubl
    the face).  A face point of a box-aligned body exposes 1, an edge 2, a
    corner 3, so an n^3 cube's faces add up to its surface 6 n^2; the layer
    below exposes none.  On an inclined or curved surface the count is the
-   lattice's staircase.  xi: n bond vectors (x, y, z). */
+   lattice's staircase.  xi: n bond vectors (x, y, z).  The faces as bits:
+   2a for +a, 2a + 1 for -a. */
 inline int exposed_faces(const double (*xi)[3], int n, double h, int dim)
 {
   int faces = 0;
   for (int a = 0; a < dim; a++)
-    for (double s : {1.0, -1.0}) {
+    for (int side = 0; side < 2; side++) {
+      const double s = side ? -1.0 : 1.0;
       bool covered = false;
       for (int b = 0; b < n && !covered; b++) {
         const double along = s * xi[b][a];
@@ -77,9 +81,29 @@ inline int exposed_faces(const double (*xi)[3], int n, double h, int dim)
         }
         covered = along > 0.0 && along * along >= perp2 && len2 < 2.25 * h * h;
       }
-      if (!covered) faces++;
+      if (!covered) faces |= 1 << (2 * a + side);
     }
   return faces;
+}
+
+inline int face_count(int faces)
+{
+  int n = 0;
+  for (int f = faces; f; f >>= 1) n += f & 1;
+  return n;
+}
+
+// the current area of the faces of a point deformed by F, each of reference
+// area A0 (Nanson: J |F^-T N| A0 per face)
+inline double deformed_area(int faces, double A0, const Mat3 &F)
+{
+  const double J = F.determinant();
+  if (!(J > 0.0)) return 0.0;
+  const Mat3 FinvT = F.inverse().transpose();
+  double A = 0.0;
+  for (int a = 0; a < 3; a++)
+    if (faces & (3 << (2 * a))) A += face_count(faces & (3 << (2 * a))) * J * FinvT.col(a).norm() * A0;
+  return A;
 }
 
 // the area of one face of a point of volume V: V^(2/3) in 3D; in 2D

@@ -197,7 +197,8 @@ TEST(Heat, ExposedFacesAddUpToTheSurface)
       for (int b = L.first[p]; b < L.first[p + 1]; b++)
         xi.push_back({L.x[L.j[b]][0] - L.x[p][0], L.x[L.j[b]][1] - L.x[p][1],
                       L.x[L.j[b]][2] - L.x[p][2]});
-      const int e = exposed_faces(reinterpret_cast<const double(*)[3]>(xi.data()), xi.size(), dx, dim);
+      const int e = face_count(
+          exposed_faces(reinterpret_cast<const double(*)[3]>(xi.data()), xi.size(), dx, dim));
       faces += e;
       const bool second = L.x[p][0] == dx && L.x[p][1] > 2 && L.x[p][1] < n - 3 &&
                           (dim == 2 || (L.x[p][2] > 2 && L.x[p][2] < n - 3));
@@ -208,4 +209,25 @@ TEST(Heat, ExposedFacesAddUpToTheSurface)
   }
   EXPECT_DOUBLE_EQ(face_area(8.0, 3, 1.0), 4.0);
   EXPECT_DOUBLE_EQ(face_area(2.0e-6 * 3.0, 2, 2.0e-3), std::sqrt(2.0e-6 * 3.0 * 2.0e-3));
+}
+
+TEST(Heat, DeformedFacesFollowNanson)
+{
+  // a corner point (+x, +y, +z faces), stretched 1.5 along x and sheared
+  NOSPD::Mat3 F;
+  F << 1.5, 0.2, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.8;
+  const int faces = 1 | 4 | 16;
+  const double A0 = 2.0;
+  const double J = F.determinant();
+  const NOSPD::Mat3 G = F.inverse().transpose();
+  double expect = 0.0;
+  for (int a = 0; a < 3; a++) expect += J * G.col(a).norm() * A0;
+  EXPECT_NEAR(deformed_area(faces, A0, F), expect, 1e-14 * expect);
+  // a pure stretch along x leaves the x face, widens the y and z faces
+  NOSPD::Mat3 S = NOSPD::Mat3::Identity();
+  S(0, 0) = 1.5;
+  EXPECT_NEAR(deformed_area(1, A0, S), A0, 1e-14);
+  EXPECT_NEAR(deformed_area(4, A0, S), 1.5 * A0, 1e-14);
+  EXPECT_NEAR(deformed_area(1 | 2, A0, S), 2.0 * A0, 1e-14);    // both x faces (a slab)
+  EXPECT_EQ(deformed_area(1, A0, -S), 0.0);                    // inverted: no area
 }

@@ -2,16 +2,17 @@
 # fix nospd/heat: temperatures, heat fluxes and positions the same on 1, 2
 # and 4 MPI ranks, across a restart split (2 ranks, then 1) and with -sf omp
 # (2 threads), to TOL of the largest value.
-# usage: run_heat_invariance.sh LMP WORKDIR [STYLE] ["SETTINGS"] [TOL]
+# usage: run_heat_invariance.sh LMP WORKDIR [STYLE] ["SETTINGS"] [TOL] [FRAME]
 set -euo pipefail
-LMP=$1; WORK=$2; STYLE=${3:-peri/nospd}; SETTINGS=${4:-}; TOL=${5:-1e-12}
+LMP=$1; WORK=$2; STYLE=${3:-peri/nospd}; SETTINGS=${4:-}; TOL=${5:-1e-12}; FRAME=${6:-reference}
 HERE=$(cd "$(dirname "$0")" && pwd)
 mkdir -p "$WORK"; cd "$WORK"
 MPIRUN=(mpirun --allow-run-as-root --oversubscribe)
 run() { # nprocs mode out [extra args]
   local np=$1 mode=$2 out=$3; shift 3
   "${MPIRUN[@]}" -np "$np" "$LMP" -in "$HERE/in.heat_invariance" -log "$out.log" -screen none \
-    -var style "$STYLE" -var settings "$SETTINGS" -var mode "$mode" -var out "$out" "$@"
+    -var style "$STYLE" -var settings "$SETTINGS" -var mode "$mode" -var out "$out" \
+    -var frame "$FRAME" "$@"
 }
 run 1 full serial
 run 2 full np2

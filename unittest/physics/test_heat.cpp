@@ -241,6 +241,59 @@ TEST_F(Heat, BondsBrokenDuringARunStopConducting)
   EXPECT_GT(scalar("v_el"), el + 1.0);    // the left side still warms
 }
 
+TEST_F(Heat, CurrentFrameConductsInTheDeformedBar)
+{
+  // a bar stretched 2x along x after its families are built (J = 2, no
+  // lateral change), its end x = 0 held: the current frame diffuses along
+  // the current length with alpha = k / (rho_current c) = 2 k / (rho c);
+  // the reference frame along the undeformed bonds (in x: 4 k / (rho c)).
+  // The two erfc profiles differ by up to 17 % of the step.
+  auto errors = [&](const std::string &frame) {
+    delete lmp;
+    lmp = open_lammps();
+    block(40, 5, 5, "s s s");
+    cmd(lmp, "region hot block INF 0.5 INF INF INF INF");
+    cmd(lmp, "group hot region hot");
+    cmd(lmp, "fix heat all nospd/heat initial 300 fixed hot 400 frame " + frame);
+    const double t = 1.0, alpha = 2.0 * K / (RHO * C);
+    cmd(lmp, "timestep " + num(t / 20));
+    cmd(lmp, "run 0");    // the families, then the stretch
+    cmd(lmp, "variable ux atom 1.0*x");
+    cmd(lmp, "displace_atoms all move v_ux 0 0 units box");
+    cmd(lmp, "run 20");
+    std::array<double, 2> worst = {0.0, 0.0};    // against the current, the reference frame's
+    for (int i = 0; i < lmp->atom->nlocal; i++) {
+      const double x = lmp->atom->x[i][0];
+      if (x < 0.5 * DX) continue;
+      for (int f = 0; f < 2; f++) {
+        const double a = f == 0 ? alpha : 2.0 * alpha;
+        const double exact = 300.0 + 100.0 * std::erfc(x / (2.0 * std::sqrt(a * t)));
+        worst[f] = std::max(worst[f], std::fabs(field()[i] - exact) / 100.0);
+      }
+    }
+    return worst;
+  };
+  const auto cur = errors("current"), ref = errors("reference");
+  EXPECT_LT(cur[0], 0.03);    // measured 1.7 %
+  EXPECT_LT(ref[1], 0.05);    // 3.3 %: consistent, in the undeformed geometry
+  EXPECT_GT(ref[0], 0.10);    // 15 % off the deformed body's solution
+}
+
+TEST_F(Heat, ReferenceFrameWarnsUnderLargeDeformation)
+{
+  block(8, 8, 8, "s s s");
+  cmd(lmp, "fix heat all nospd/heat");
+  cmd(lmp, "timestep 1e-3");
+  cmd(lmp, "run 0");
+  cmd(lmp, "variable ux atom 0.3*x");
+  cmd(lmp, "displace_atoms all move v_ux 0 0 units box");
+  const std::string log = log_of(lmp, {"run 200"});
+  EXPECT_THAT(log, HasSubstr("use frame current for large deformation"));
+  cmd(lmp, "unfix heat");
+  cmd(lmp, "fix heat all nospd/heat frame current");
+  EXPECT_THAT(log_of(lmp, {"run 200"}), ::testing::Not(HasSubstr("use frame current")));
+}
+
 TEST_F(Heat, PlasticWorkHeatsTheFieldByTaylorQuinney)
 {
   // copper (Johnson-Cook) block, one face pushed: the field gains chi W_p
