@@ -34,6 +34,7 @@ static const char *CMD = "fix nospd/heat";
 static constexpr int MAX_SUBSTEPS = 1000000;
 static constexpr int FRAME_CHECK_EVERY = 100;
 static constexpr double FRAME_WARN_STRAIN = 0.1;
+static constexpr double MOMENT_TOLERANCE = 1e-4;
 
 /* ---------------------------------------------------------------------- */
 
@@ -298,7 +299,9 @@ void FixNospdHeat::setup(int /*vflag*/)
     error->all(FLERR, "{}: the bond families are not built (a run of the pair style builds "
                "them before its first force)", CMD);
   calibrate();
-  if (current_frame) step_geometry();
+  // (the moments' kappas are not taken again here: a restart's setup would
+  // then differ from the run it continues)
+  if (current_frame) step_geometry(false);
   comm->forward_comm(this);
   build_coefficients();
   dt_stable = stable_step();
@@ -366,19 +369,20 @@ void FixNospdHeat::build_coefficients()
 {
   const int nlocal = atom->nlocal;
   const double *vfrac = atom->vfrac;
-  double **x = atom->x;
   coef.assign(bonds->bond_first[nlocal], 0.0);
   for (int i = 0; i < nlocal; i++) {
     if (!(kappa_of(i) > 0.0)) continue;
     const double vi = current_frame ? vfrac[i] * jcur[i] : vfrac[i];
     for (int b = bonds->bond_first[i]; b < bonds->bond_first[i + 1]; b++) {
       const int j = bonds->bond_j[b];
-      double v[3];
+      double len = 0.0;
       if (current_frame)
-        for (int a = 0; a < 3; a++) v[a] = x[j][a] - x[i][a];
-      else
+        len = blen[b];    // step_geometry's
+      else {
+        double v[3];
         bonds->bond_vector(i, b, v);
-      const double len = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+        len = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+      }
       const double vj = current_frame ? vfrac[j] * jcur[j] : vfrac[j];
       coef[b] = NOSPD::Heat::bond_coefficient(kappa_of(i), kappa_of(j), len, vi, vj);
     }
@@ -392,7 +396,7 @@ void FixNospdHeat::build_coefficients()
    bonds, volumes J V), J, and the faces' current area (Nanson)
 ------------------------------------------------------------------------- */
 
-void FixNospdHeat::step_geometry()
+void FixNospdHeat::step_geometry(bool retake)
 {
   const int nlocal = atom->nlocal, nall = nlocal + atom->nghost;
   kcur.resize(std::max<size_t>(kcur.size(), atom->nmax));
@@ -409,19 +413,35 @@ void FixNospdHeat::step_geometry()
   comm_mode = 1;
   comm->forward_comm(this);
   comm_mode = 0;
+  blen.resize(bonds->bond_first[nlocal]);
   for (int i = 0; i < nlocal; i++) {
     kcur[i] = 0.0;
     area_now[i] = 0.0;
     if (!(atom->mask[i] & groupbit) || !(aux[i][KAPPA] > 0.0)) continue;
-    NOSPD::Mat3 M = NOSPD::Mat3::Zero();
+    double m[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};    // xx yy zz xy xz yz
     for (int b = bonds->bond_first[i]; b < bonds->bond_first[i + 1]; b++) {
       const int j = bonds->bond_j[b];
-      const double v[3] = {x[j][0] - x[i][0], x[j][1] - x[i][1], x[j][2] - x[i][2]};
-      NOSPD::Heat::add_moment(M, v, vfrac[j] * jcur[j]);
+      const double v0 = x[j][0] - x[i][0], v1 = x[j][1] - x[i][1], v2 = x[j][2] - x[i][2];
+      const double len = std::sqrt(v0 * v0 + v1 * v1 + v2 * v2);
+      blen[b] = len;
+      const double w = len > 0.0 ? vfrac[j] * jcur[j] / len : 0.0;
+      m[0] += w * v0 * v0, m[1] += w * v1 * v1, m[2] += w * v2 * v2;
+      m[3] += w * v0 * v1, m[4] += w * v0 * v2, m[5] += w * v1 * v2;
     }
-    kcur[i] = NOSPD::Heat::micro_conductivity(k_type[atom->type[i]], M);
-    area_now[i] = NOSPD::Heat::deformed_area((int) aux[i][FACES], aux[i][AREA0],
-                                             NOSPD::load(bonds->defgrad[i]));
+    // the eigenvalue again only where the moment moved (it costs as much as
+    // the bond loop)
+    double *mcal = aux[i] + MCAL, moved = 0.0;
+    for (int k = 0; k < 6; k++) moved = std::max(moved, std::fabs(m[k] - mcal[k]));
+    if (!(aux[i][KCUR] > 0.0) || (retake && !(moved <= MOMENT_TOLERANCE * (m[0] + m[1] + m[2])))) {
+      NOSPD::Mat3 M;
+      M << m[0], m[3], m[4], m[3], m[1], m[5], m[4], m[5], m[2];
+      aux[i][KCUR] = NOSPD::Heat::micro_conductivity(k_type[atom->type[i]], M);
+      for (int k = 0; k < 6; k++) mcal[k] = m[k];
+    }
+    kcur[i] = aux[i][KCUR];
+    if (aux[i][FACES] != 0.0)
+      area_now[i] = NOSPD::Heat::deformed_area((int) aux[i][FACES], aux[i][AREA0],
+                                               NOSPD::load(bonds->defgrad[i]));
   }
   for (int i = nlocal; i < nall; i++) kcur[i] = 0.0;    // set by the next forward comm
   coef_version = -1;
@@ -471,7 +491,7 @@ void FixNospdHeat::pre_force(int /*vflag*/)
     error->one(FLERR, "{}: the bond lists do not cover the atoms on step {}", CMD,
                update->ntimestep);
   if (current_frame) {
-    step_geometry();
+    step_geometry(true);
     comm->forward_comm(this);
     build_coefficients();
     dt_stable = stable_step();
@@ -701,8 +721,7 @@ void FixNospdHeat::set_arrays(int i)
   tfield[i] = std::numeric_limits<double>::quiet_NaN();    // set at the next init
   aux[i][SEEN] = 0.0;
   aux[i][KAPPA] = -1.0;    // calibrated at the next setup
-  aux[i][AREA0] = 0.0;
-  aux[i][FACES] = 0.0;
+  for (int k = AREA0; k < NAUX; k++) aux[i][k] = 0.0;    // MCAL 0: taken at the first step
 }
 
 int FixNospdHeat::pack_exchange(int i, double *buf)

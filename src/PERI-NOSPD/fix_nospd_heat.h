@@ -68,13 +68,16 @@ class FixNospdHeat : public Fix {
   double *tfield;    // per atom (owned and ghost): the temperature (vector_atom)
   // per atom: the law's heating moved into tfield so far, the micro-
   // conductivity (-1: not calibrated), the reference area of one face, the
-  // exposed faces (bits, nospd_heat.h)
-  enum { SEEN, KAPPA, AREA0, FACES, NAUX };
+  // exposed faces (bits, nospd_heat.h); frame current: kappa of the current
+  // family and the moment it was taken from (taken again when the moment
+  // moves by more than MOMENT_TOLERANCE)
+  enum { SEEN, KAPPA, AREA0, FACES, KCUR, MCAL, NAUX = MCAL + 6 };
   double **aux;
   // frame current: per atom (owned and ghost) this step's kappa and J, and
   // per owned atom the exposed area
   bool current_frame = false;
   std::vector<double> kcur, jcur, area_now;
+  std::vector<double> blen;    // per bond: this step's current length
   bool warned_frame = false;
   // boundary conditions and sources, in input order
   struct Value {
@@ -117,7 +120,7 @@ class FixNospdHeat : public Fix {
   void build_coefficients();
   void move_plastic_heat();
   void substep(double dt);
-  void step_geometry();
+  void step_geometry(bool retake);
   void check_frame();
   double kappa_of(int i) const { return current_frame ? kcur[i] : aux[i][KAPPA]; }
   void step_sources();
