@@ -16,6 +16,7 @@
 #include "memory.h"
 #include "modify.h"
 #include "pair_peri_nospd_base.h"
+#include "region.h"
 #include "update.h"
 #include "variable.h"
 
@@ -85,9 +86,10 @@ int FixNospdHeat::setmask()
 /* ----------------------------------------------------------------------
    fix ID group nospd/heat keyword values ...
      initial T | v_name          temperature of points without one (default T_ref)
-     fixed group T | v_name      held temperature
-     convection group h T_inf    surface loss h A (T - T_inf)
-     flux group q | v_name       surface input q A (W/m^2)
+     fixed where T | v_name      held temperature
+     convection where h T_inf    surface loss h A (T - T_inf)
+     flux where q | v_name       surface input q A (W/m^2)
+   (where: a group-ID, or region region-ID)
      source s | v_name           volumetric source (W/m^3)
      substeps auto | N
      frame reference | current    where the bonds conduct (default reference)
@@ -99,10 +101,21 @@ void FixNospdHeat::parse(int narg, char **arg)
   auto need = [&](int n, const char *key) {
     if (i + n >= narg) error->all(FLERR, "{}: keyword {} needs {} value(s)", CMD, key, n);
   };
-  auto group_of = [&](const char *name, const char *key) {
-    const int g = group->find(name);
-    if (g < 0) error->all(FLERR, "{}: {} group {} does not exist", CMD, key, name);
-    return g;
+  // group-ID, or region region-ID; i moves past it
+  auto where = [&](Condition &c, const char *key) {
+    if (strcmp(arg[i + 1], "region") == 0) {
+      need(2, key);
+      c.by_region = true;
+      c.group = arg[i + 2];
+      if (!domain->get_region_by_id(c.group))
+        error->all(FLERR, "{}: {} region {} does not exist", CMD, key, c.group);
+      i += 1;
+    } else {
+      c.group = arg[i + 1];
+      const int g = group->find(c.group);
+      if (g < 0) error->all(FLERR, "{}: {} group {} does not exist", CMD, key, c.group);
+      c.groupbit = group->bitmask[g];
+    }
   };
   while (i < narg) {
     const std::string key = arg[i];
@@ -115,8 +128,8 @@ void FixNospdHeat::parse(int narg, char **arg)
       need(2, key.c_str());
       Condition c;
       c.kind = key == "fixed" ? Condition::FIXED : Condition::FLUX;
-      c.group = arg[i + 1];
-      c.groupbit = group->bitmask[group_of(arg[i + 1], key.c_str())];
+      where(c, key.c_str());
+      need(2, key.c_str());
       c.value = value_of(arg[i + 2], key.c_str(), true);
       conditions.push_back(c);
       i += 3;
@@ -124,8 +137,8 @@ void FixNospdHeat::parse(int narg, char **arg)
       need(3, "convection");
       Condition c;
       c.kind = Condition::CONVECTION;
-      c.group = arg[i + 1];
-      c.groupbit = group->bitmask[group_of(arg[i + 1], "convection")];
+      where(c, "convection");
+      need(3, "convection");
       c.value = value_of(arg[i + 2], "convection h", false);
       if (!(c.value.number > 0.0))
         error->all(FLERR, "{}: convection h must be > 0 (W/m^2/K), got {}", CMD, arg[i + 2]);
@@ -223,9 +236,15 @@ void FixNospdHeat::init()
   resolve(initial, "initial");
   resolve(source, "source");
   for (auto &c : conditions) {
-    const int g = group->find(c.group);
-    if (g < 0) error->all(FLERR, "{}: group {} was deleted", CMD, c.group);
-    c.groupbit = group->bitmask[g];
+    if (c.by_region) {
+      c.region = domain->get_region_by_id(c.group);
+      if (!c.region) error->all(FLERR, "{}: region {} was deleted", CMD, c.group);
+      c.region->prematch();
+    } else {
+      const int g = group->find(c.group);
+      if (g < 0) error->all(FLERR, "{}: group {} was deleted", CMD, c.group);
+      c.groupbit = group->bitmask[g];
+    }
     resolve(c.value, c.kind == Condition::FIXED ? "fixed" : "flux");
   }
   const int ntypes = atom->ntypes;
@@ -260,9 +279,15 @@ void FixNospdHeat::check_types_and_groups()
   for (const auto &c : conditions) {
     bigint n = 0, nall = 0;
     for (int i = 0; i < atom->nlocal; i++)
-      if ((atom->mask[i] & groupbit) && (atom->mask[i] & c.groupbit)) n++;
+      if (under(c, i)) n++;
     MPI_Allreduce(&n, &nall, 1, MPI_LMP_BIGINT, MPI_SUM, world);
-    if (nall == 0)
+    if (nall > 0) continue;
+    // a region may fill later (dynamic, or atoms moving into it)
+    if (c.by_region) {
+      if (comm->me == 0)
+        error->warning(FLERR, "{}: region {} holds no atoms of group {} now; its condition "
+                       "acts once atoms are inside", CMD, c.group, group->names[igroup]);
+    } else
       error->all(FLERR, "{}: group {} has no atoms of group {}: its condition would do "
                  "nothing", CMD, c.group, group->names[igroup]);
   }
@@ -454,6 +479,13 @@ double FixNospdHeat::area(int i) const
                        : NOSPD::Heat::face_count((int) aux[i][FACES]) * aux[i][AREA0];
 }
 
+bool FixNospdHeat::under(const Condition &c, int i) const
+{
+  if (!(atom->mask[i] & groupbit)) return false;
+  if (c.by_region) return c.region && c.region->match(atom->x[i][0], atom->x[i][1], atom->x[i][2]);
+  return (atom->mask[i] & c.groupbit) != 0;
+}
+
 double FixNospdHeat::capacity(int i) const
 {
   return atom->rmass[i] * c_type[atom->type[i]] * atom->vfrac[i];
@@ -469,7 +501,7 @@ double FixNospdHeat::stable_step() const
     double cs = 0.0;
     for (int b = bonds->bond_first[i]; b < bonds->bond_first[i + 1]; b++) cs += coef[b];
     for (const auto &c : conditions)
-      if (c.kind == Condition::CONVECTION && (atom->mask[i] & c.groupbit))
+      if (c.kind == Condition::CONVECTION && under(c, i))
         cs += c.value.number * area(i);
     lo = std::min(lo, NOSPD::Heat::step_bound(capacity(i), cs));
   }
@@ -534,6 +566,8 @@ void FixNospdHeat::check_frame()
 // this step's values of the conditions and the source, per owned atom
 void FixNospdHeat::step_sources()
 {
+  for (auto &c : conditions)
+    if (c.region) c.region->prematch();
   values.resize(conditions.size());
   for (size_t n = 0; n < conditions.size(); n++) evaluate(conditions[n].value, values[n]);
   if (have_source)
@@ -569,7 +603,7 @@ void FixNospdHeat::substep(double dt)
     double q = extra[i] * vfrac[i];    // volumetric source
     for (size_t n = 0; n < conditions.size(); n++) {
       const auto &c = conditions[n];
-      if (!(mask[i] & c.groupbit) || c.kind == Condition::FIXED) continue;
+      if (c.kind == Condition::FIXED || !under(c, i)) continue;
       if (c.kind == Condition::CONVECTION)
         q -= c.value.number * area(i) * (tfield[i] - c.T_inf);
       else
@@ -593,7 +627,7 @@ void FixNospdHeat::apply_fixed()
     const auto &c = conditions[n];
     if (c.kind != Condition::FIXED) continue;
     for (int i = 0; i < atom->nlocal; i++) {
-      if (!(mask[i] & groupbit) || !(mask[i] & c.groupbit)) continue;
+      if (!under(c, i)) continue;
       const double T = values[n][i];
       inflow += capacity(i) * (T - tfield[i]);
       tfield[i] = T;

@@ -88,8 +88,10 @@ class FixNospdHeat : public Fix {
   };
   struct Condition {
     enum Kind { FIXED, CONVECTION, FLUX } kind;
-    std::string group;
+    std::string group;        // or the region's ID where region is set
     int groupbit = 0;
+    bool by_region = false;
+    class Region *region = nullptr;
     Value value;         // T, h or q
     double T_inf = 0.0;  // convection
   };
@@ -126,6 +128,9 @@ class FixNospdHeat : public Fix {
   void step_sources();
   void apply_fixed();
   double capacity(int i) const;
+  // owned atom i is in the fix group and under condition c (its group, or
+  // its region now)
+  bool under(const Condition &c, int i) const;
   double area(int i) const;
   double pending(int i) const;
   double stable_step() const;

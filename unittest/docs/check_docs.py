@@ -339,11 +339,14 @@ def references(line):
     for k in range(3, len(w) - 1):
         if w[k] == "group":
             refs.append(("group", w[k + 1]))
-    for kind in ("region", "variable"):
-        if w[0] == "group" and kind in w:
-            k = w.index(kind)
-            if k + 1 < len(w):
-                refs.append((kind, w[k + 1]))
+    if w[0] == "group" and "variable" in w:
+        k = w.index("variable")
+        if k + 1 < len(w):
+            refs.append(("variable", w[k + 1]))
+    # "region ID" inside a command (group ... region ID, a keyword's region)
+    for k in range(1, len(w) - 1):
+        if w[k] == "region":
+            refs.append(("region", w[k + 1]))
     return refs
 
 

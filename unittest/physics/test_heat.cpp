@@ -294,6 +294,42 @@ TEST_F(Heat, ReferenceFrameWarnsUnderLargeDeformation)
   EXPECT_THAT(log_of(lmp, {"run 200"}), ::testing::Not(HasSubstr("use frame current")));
 }
 
+TEST_F(Heat, ConditionsByRegionFollowItsPoints)
+{
+  // held by region = held by the group of the same points; a region that
+  // moves onto the body heats it from then on
+  auto run = [&](const std::string &where) {
+    delete lmp;
+    lmp = open_lammps();
+    block(10, 5, 5, "s s s");
+    cmd(lmp, "region hot block INF 0.5 INF INF INF INF");
+    cmd(lmp, "group hot region hot");
+    cmd(lmp, "fix heat all nospd/heat initial 300 fixed " + where + " 400");
+    cmd(lmp, "timestep 1e-3");
+    cmd(lmp, "run 50");
+    return std::vector<double>(field(), field() + lmp->atom->nlocal);
+  };
+  const auto by_group = run("hot"), by_region = run("region hot");
+  ASSERT_EQ(by_group.size(), by_region.size());
+  for (size_t i = 0; i < by_group.size(); i++) EXPECT_EQ(by_group[i], by_region[i]);
+  EXPECT_GT(*std::max_element(by_group.begin(), by_group.end() - 1), 300.0);
+
+  delete lmp;
+  lmp = open_lammps();
+  block(10, 5, 5, "s s s");
+  // a torch 1.5 mm across, moving along x from outside the body at 0.1 m/s
+  cmd(lmp, "variable xt equal -0.004+0.1*time");
+  cmd(lmp, "region torch sphere 0 0.002 0.002 0.0015 move v_xt NULL NULL units box");
+  const std::string log = log_of(lmp, {"fix heat all nospd/heat initial 300 flux region torch 1e6",
+                                       "timestep 1e-3", "run 10"});
+  EXPECT_THAT(log, HasSubstr("region torch holds no atoms of group all now"));
+  for (int i = 0; i < lmp->atom->nlocal; i++) EXPECT_EQ(field()[i], 300.0);    // not there yet
+  cmd(lmp, "run 60");    // the torch reaches x = 0.003
+  double hottest = 0.0;
+  for (int i = 0; i < lmp->atom->nlocal; i++) hottest = std::max(hottest, field()[i]);
+  EXPECT_GT(hottest, 300.5);
+}
+
 TEST_F(Heat, PlasticWorkHeatsTheFieldByTaylorQuinney)
 {
   // copper (Johnson-Cook) block, one face pushed: the field gains chi W_p
