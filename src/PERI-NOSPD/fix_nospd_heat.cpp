@@ -22,6 +22,7 @@
 
 #include "nospd_heat.h"
 #include "nospd_input.h"
+#include "nospd_threads.h"
 
 #include <cmath>
 #include <array>
@@ -594,8 +595,12 @@ void FixNospdHeat::substep(double dt)
   const int nlocal = atom->nlocal;
   if (coef_version != bonds->bond_version || coef_atoms != nlocal) build_coefficients();
   rate.resize(nlocal);
-  NOSPD::Heat::exchange(bonds->bond_first, bonds->bond_j, coef.data(), tfield, 0, nlocal,
-                        rate.data());
+  // split over the OpenMP threads of -sf omp / package omp: each point's
+  // sum is its own, so any split gives the same bits
+  NOSPD::run_ranges(comm->nthreads, nlocal, [&](int from, int to, int) {
+    NOSPD::Heat::exchange(bonds->bond_first, bonds->bond_j, coef.data(), tfield, from, to,
+                          rate.data());
+  });
   const double *vfrac = atom->vfrac;
   const int *mask = atom->mask;
   for (int i = 0; i < nlocal; i++) {
