@@ -17,6 +17,7 @@
 #include "modify.h"
 #include "pair_peri_nospd_base.h"
 #include "region.h"
+#include "respa.h"
 #include "update.h"
 #include "variable.h"
 
@@ -81,7 +82,7 @@ FixNospdHeat::~FixNospdHeat()
 
 int FixNospdHeat::setmask()
 {
-  return PRE_FORCE;
+  return PRE_FORCE | PRE_FORCE_RESPA;
 }
 
 /* ----------------------------------------------------------------------
@@ -231,6 +232,9 @@ void FixNospdHeat::init()
     error->all(FLERR, "{}: fix {} already owns the temperature; one fix nospd/heat per run",
                CMD, other->id);
   pair->attach_heat(this);
+  nlevels_respa = 0;
+  if (utils::strmatch(update->integrate_style, "^respa"))
+    nlevels_respa = dynamic_cast<Respa *>(update->integrate)->nlevels;
   bonds = dynamic_cast<FixNospdBonds *>(modify->get_fix_by_id(FixNospdBonds::ID));
   if (!atom->rmass_flag || !atom->vfrac_flag)
     error->all(FLERR, "{} needs atom_style peri (density as rmass, volume as vfrac)", CMD);
@@ -537,6 +541,12 @@ void FixNospdHeat::pre_force(int /*vflag*/)
     check_frame();
   const double dts = update->dt / nsub;
   for (int s = 0; s < nsub; s++) substep(dts);
+}
+
+// run_style respa: once per outer step, before the outermost level's forces
+void FixNospdHeat::pre_force_respa(int vflag, int ilevel, int /*iloop*/)
+{
+  if (ilevel == nlevels_respa - 1) pre_force(vflag);
 }
 
 /* ----------------------------------------------------------------------

@@ -40,6 +40,7 @@ class FixNospdHeat : public Fix {
   void init() override;
   void setup(int) override;
   void pre_force(int) override;
+  void pre_force_respa(int, int, int) override;
   double compute_scalar() override;
   double compute_vector(int) override;
   int pack_forward_comm(int, int *, double *, int, int *) override;
@@ -112,6 +113,7 @@ class FixNospdHeat : public Fix {
   bool warned_step = false;
   double inflow = 0.0, plastic_in = 0.0;    // cumulative, this rank
   int comm_mode = 0;                        // 0: T and kappa, 1: J
+  int nlevels_respa = 0;                    // run_style respa: its levels
 
   void parse(int narg, char **arg);
   Value value_of(const char *word, const char *what, bool allow_var);
