@@ -102,8 +102,9 @@ void PairPeriNospdBase::warn_plastic_flow(const std::string &cmd)
 {
   if (plastic_flow_warned || family_kind() != 1 || stab != Stab::SILLING || fit_quadratic) return;
   int plastic = 0;
+  // a flow law, not only history (a thermal-only type keeps history and is elastic)
   for (int i = 1; i <= atom->ntypes && !plastic; i++)
-    if (active[i] && has_history(i)) plastic = i;
+    if (active[i] && has_history(i) && (flow[i].active || drucker_prager[i].active)) plastic = i;
   if (!plastic) return;
   plastic_flow_warned = true;
   if (comm->me == 0)

@@ -88,6 +88,7 @@ TEST_F(Warnings, BodyWithBrokenBondsIsNotChecked)
 
 // Silling's springs on the linear fit with a plastic law: said once at
 // init, with the alternatives; not on the quadratic fit, not for elastic laws
+// (a thermoelastic one, whose type keeps history, included)
 TEST_F(Warnings, PlasticFlowOnTheLinearFitWarns)
 {
   const std::string said = "hold large plastic flow back";
@@ -100,7 +101,8 @@ TEST_F(Warnings, PlasticFlowOnTheLinearFitWarns)
       blk.n = 6;
       blk.settings = settings;
       make_block(lmp, blk);
-      if (plastic) cmd(lmp, "pair_coeff * * 200e9 0.3 " + num(blk.delta()) + " yield 250e6");
+      cmd(lmp, "pair_coeff * * 200e9 0.3 " + num(blk.delta()) +
+                   (plastic ? " yield 250e6" : " thermal 1.2e-5 293"));
       const auto text = log_of(lmp, {"run 0", "run 0"});
       const bool expected = plastic && settings == "stabilization silling 0.5";
       EXPECT_EQ(text.find(said) != std::string::npos, expected) << settings << " " << plastic;
