@@ -204,12 +204,12 @@ void FixNospdHeat::evaluate(const Value &v, std::vector<double> &out)
 {
   const int nlocal = atom->nlocal;
   out.assign(nlocal, v.number);
-  if (v.style == 1) {
-    const double x = input->variable->compute_equal(v.index);
-    out.assign(nlocal, x);
-  } else if (v.style == 2) {
-    input->variable->compute_atom(v.index, igroup, out.data(), 1, 0);
-  }
+  NOSPD_INPUT::variable_in_range(error, CMD, v.var, [&]() {
+    if (v.style == 1)
+      out.assign(nlocal, input->variable->compute_equal(v.index));
+    else if (v.style == 2)
+      input->variable->compute_atom(v.index, igroup, out.data(), 1, 0);
+  });
   for (int i = 0; i < nlocal; i++)
     if ((atom->mask[i] & groupbit) && !std::isfinite(out[i]))
       error->one(FLERR, "{}: variable {} gives {} at atom {} on step {}", CMD, v.var, out[i],

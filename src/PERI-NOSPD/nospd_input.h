@@ -12,6 +12,7 @@
 #include "nospd_parse.h"
 
 #include <climits>
+#include <stdexcept>
 #include <string>
 
 namespace NOSPD_INPUT {
@@ -73,6 +74,20 @@ inline void check_type_range(LAMMPS_NS::Error *error, const std::string &where,
                  "a type from 1, got '{}'", where, word, part);
     if (star == std::string::npos) break;
     from = star + 1;
+  }
+}
+
+// run evaluate(), LAMMPS's evaluation of variable `name` for `where`: its
+// std::stod lets a constant past a double's range (1e999) out as
+// std::out_of_range, which becomes this error on the rank that met it
+template <class Evaluate>
+inline void variable_in_range(LAMMPS_NS::Error *error, const std::string &where,
+                              const std::string &name, Evaluate evaluate)
+{
+  try {
+    evaluate();
+  } catch (std::out_of_range &e) {
+    error->one(FLERR, "{}: v_{}: a number out of a double's range ({})", where, name, e.what());
   }
 }
 

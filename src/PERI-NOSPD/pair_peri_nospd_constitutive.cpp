@@ -15,6 +15,8 @@
 #include "update.h"
 #include "variable.h"
 
+#include "nospd_input.h"
+
 #include <cmath>
 
 using namespace LAMMPS_NS;
@@ -127,13 +129,10 @@ void PairPeriNospdBase::fill_base_temperature()
   const int nlocal = atom->nlocal;
   const int *type = atom->type;
   if (temperature_kind == TEMP_VARIABLE) {
-    // LAMMPS's evaluation lets std::stod's out_of_range out (a constant 1e999)
-    try {
+    NOSPD_INPUT::variable_in_range(error, fmt::format("pair_style {}: temperature", force->pair_style),
+                                   temperature_name, [&]() {
       input->variable->compute_atom(temperature_index, 0, temperature_base, 1, 0);
-    } catch (std::out_of_range &e) {
-      error->one(FLERR, "pair_style {}: temperature v_{}: a number out of a double's range "
-                 "({})", force->pair_style, temperature_name, e.what());
-    }
+    });
   } else if (temperature_kind == TEMP_PROPERTY) {
     const double *t = atom->dvector[temperature_index];
     for (int i = 0; i < nlocal; i++) temperature_base[i] = t[i];

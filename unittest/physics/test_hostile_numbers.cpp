@@ -299,6 +299,14 @@ std::vector<Case> make_cases()
   for (const auto &f : heats)
     cs.push_back({"heat_" + f.name, 3, conducting, "fix heat all nospd/heat " + f.args, run,
                   f.kind, f.expect});
+  // the same numbers through the variables the fix evaluates (LAMMPS reads
+  // them; the fix meets them at the run)
+  for (const std::string kw : {"initial", "source"}) {
+    auto pre = conducting;
+    pre.push_back("fix heat all nospd/heat " + kw + " v_H");
+    cs.push_back({"heat_" + kw + "_variable", 3, pre, "variable H atom {300}", run, Kind::REAL,
+                  "nospd/heat|ariable", Naming::KEYWORD});
+  }
 
   // ---- the computes take no number: a number where a quantity goes is refused
   cs.push_back({"compute_atom_quantity", 3, {"pair_style peri/nospd", ELASTIC},
