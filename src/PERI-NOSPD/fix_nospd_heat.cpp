@@ -400,6 +400,7 @@ void FixNospdHeat::build_coefficients()
   const int nlocal = atom->nlocal;
   const double *vfrac = atom->vfrac;
   coef.assign(bonds->bond_first[nlocal], 0.0);
+  rowsum.assign(nlocal, 0.0);
   for (int i = 0; i < nlocal; i++) {
     if (!(kappa_of(i) > 0.0)) continue;
     const double vi = current_frame ? vfrac[i] * jcur[i] : vfrac[i];
@@ -415,6 +416,7 @@ void FixNospdHeat::build_coefficients()
       }
       const double vj = current_frame ? vfrac[j] * jcur[j] : vfrac[j];
       coef[b] = NOSPD::Heat::bond_coefficient(kappa_of(i), kappa_of(j), len, vi, vj);
+      rowsum[i] += coef[b];
     }
   }
   coef_version = bonds->bond_version;
@@ -503,8 +505,7 @@ double FixNospdHeat::stable_step() const
   double lo = HUGE_VAL;
   for (int i = 0; i < nlocal; i++) {
     if (!(atom->mask[i] & groupbit)) continue;
-    double cs = 0.0;
-    for (int b = bonds->bond_first[i]; b < bonds->bond_first[i + 1]; b++) cs += coef[b];
+    double cs = rowsum[i];    // build_coefficients'
     for (const auto &c : conditions)
       if (c.kind == Condition::CONVECTION && under(c, i))
         cs += c.value.number * area(i);

@@ -105,6 +105,7 @@ class FixNospdHeat : public Fix {
   FixNospdBonds *bonds = nullptr;
   std::vector<double> k_type, c_type;    // per type
   std::vector<double> coef;              // per bond of the bonds fix's lists
+  std::vector<double> rowsum;            // per owned atom: sum of its coef
   std::vector<double> rate, extra;       // per atom: dE, this step's sources
   std::vector<std::vector<double>> values;    // per condition, this step's value per atom
   int coef_version = -1, coef_atoms = -1;
