@@ -123,6 +123,8 @@ struct MinDmax : LAMMPS_NS::Min {
 void FixNospdBonds::check_min_dmax()
 {
   if (!update->minimize || !model.horizon) return;
+  // the Newton minimizer's first trial is its Newton step, not dmax
+  if (utils::strmatch(update->minimize_style, "^nospd/newton")) return;
   const double dmax = MinDmax::of(update->minimize);
   double delta = 0.0;    // the smallest horizon
   for (int i = 1; i <= atom->ntypes; i++)

@@ -15,6 +15,7 @@
 #include "fix_nospd_damage.h"
 #include "fix_nospd_damage_omp.h"
 #include "fix_nospd_heat.h"
+#include "min_nospd_newton.h"
 #include "pair_peri_nospd.h"
 #include "pair_peri_nospd_hs.h"
 #include "pair_peri_nospd_hs_omp.h"
@@ -99,6 +100,12 @@ Compute *compute_atom_creator(LAMMPS *lmp, int argc, char **argv)
   return new ComputeNospdAtom(lmp, argc, argv);
 }
 
+Min *min_newton_creator(LAMMPS *lmp)
+{
+  version_ok(lmp, "min_style nospd/newton");
+  return new MinNospdNewton(lmp);
+}
+
 }    // namespace
 
 extern "C" void lammpsplugin_init(void *lmp, void *handle, void *regfunc)
@@ -179,5 +186,11 @@ extern "C" void lammpsplugin_init(void *lmp, void *handle, void *regfunc)
   plugin.name = "nospd/heat";
   plugin.info = "PERI-NOSPD peridynamic heat conduction and thermo-mechanical coupling";
   plugin.creator.v2 = (lammpsplugin_factory2 *) &fix_heat_creator;
+  (*register_plugin)(&plugin, lmp);
+
+  plugin.style = "min";
+  plugin.name = "nospd/newton";
+  plugin.info = "PERI-NOSPD Newton-Krylov minimizer for quasi-static load steps";
+  plugin.creator.v1 = (lammpsplugin_factory1 *) &min_newton_creator;
   (*register_plugin)(&plugin, lmp);
 }

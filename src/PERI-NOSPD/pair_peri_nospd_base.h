@@ -101,6 +101,9 @@ class PairPeriNospdBase : public Pair {
   void attach_heat(FixNospdHeat *f) { heat_field = f; }
   FixNospdHeat *attached_heat() const { return heat_field; }
   bool temperature_given() const { return temperature_kind != TEMP_NONE; }
+  // why the forces are no energy's gradient ("" if they are one): the
+  // Newton minimizer picks its Krylov solver by it
+  std::string potential_cause() const { return not_a_potential(); }
 
  protected:
   FixNospdBonds *fix_bonds;

@@ -82,7 +82,10 @@ void PairPeriNospdBase::check_run_environment(const std::string &cmd)
     error->all(FLERR, "{}: 2D runs need a periodic z", cmd);
   warn_barostats(cmd);
   // CG and its line searches assume f = -grad pe: say once when it is not
-  const std::string why = update->whichflag == 2 && !utils::strmatch(update->minimize_style, "^fire")
+  // (FIRE and the Newton minimizer's GMRES do not)
+  const std::string why = update->whichflag == 2 &&
+          !utils::strmatch(update->minimize_style, "^fire") &&
+          !utils::strmatch(update->minimize_style, "^nospd/newton")
       ? not_a_potential() : "";
   if (!why.empty() && !minimize_warned && comm->me == 0)
     error->warning(FLERR, "minimize with {} ({}): CG and the line searches need forces that "

@@ -1,0 +1,615 @@
+/* ----------------------------------------------------------------------
+   PERI-NOSPD: min_style nospd/newton (see the header and
+   doc/min_nospd_newton.rst)
+------------------------------------------------------------------------- */
+
+#include "min_nospd_newton.h"
+
+#include "atom.h"
+#include "comm.h"
+#include "domain.h"
+#include "angle.h"
+#include "bond.h"
+#include "dihedral.h"
+#include "error.h"
+#include "improper.h"
+#include "kspace.h"
+#include "fix_minimize.h"
+#include "fix_nospd_bonds.h"
+#include "force.h"
+#include "modify.h"
+#include "nospd_krylov.h"
+#include "nospd_input.h"
+#include "output.h"
+#include "pair.h"
+#include "pair_peri_nospd_base.h"
+#include "timer.h"
+#include "update.h"
+#include "utils.h"
+
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+
+using namespace LAMMPS_NS;
+
+namespace {
+constexpr const char *CMD = "min_style nospd/newton";
+constexpr double EPS_ENERGY = 1.0e-8;    // as LAMMPS's line searches
+constexpr double ARMIJO = 1.0e-4;
+constexpr int MAX_BACKTRACK = 30;
+// a rigid mode whose stiffness is below this fraction of a random
+// direction's is taken as free (directional differences resolve ~1e-8)
+constexpr double SINGULAR_RATIO = 1.0e-6;
+// the surrogate keeps a point's bonds up to this multiple of its shortest
+// (a lattice's nearest and diagonal neighbours): as good a preconditioner
+// as the whole family at a fraction of the Cholesky factor's fill
+constexpr double SURROGATE_REACH = 1.5;
+// owned dofs up to which the surrogate is factored exactly (beyond: an
+// incomplete factor, whose Krylov counts grow with the resolution)
+constexpr int DIRECT_DOFS = 600000;
+
+// a reproducible number in [-1, 1) from an atom's tag and a component: the
+// same perturbation on any rank count
+double hashed(tagint tag, int k)
+{
+  uint64_t z = static_cast<uint64_t>(tag) * 3 + static_cast<uint64_t>(k) + 0x9e3779b97f4a7c15ULL;
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+  z ^= z >> 31;
+  return static_cast<double>(z >> 11) * (2.0 / 9007199254740992.0) - 1.0;
+}
+}    // namespace
+
+/* ---------------------------------------------------------------------- */
+
+MinNospdNewton::MinNospdNewton(LAMMPS *lmp) : Min(lmp)
+{
+  searchflag = 1;
+}
+
+/* ---------------------------------------------------------------------- */
+
+int MinNospdNewton::modify_param(int narg, char **arg)
+{
+  const std::string key = arg[0];
+  auto need = [&](int n) {
+    if (narg < n + 1) error->all(FLERR, "min_modify {}: expected {} value(s)", key, n);
+  };
+  auto real_in = [&](const std::string &what, const char *word, double lo, double hi) {
+    const double v = NOSPD_INPUT::real(error, "min_modify", what, word);
+    if (!(v >= lo && v <= hi))
+      error->all(FLERR, "min_modify {}: {} must be in [{:g}, {:g}], got {}", key, what, lo, hi,
+                 word);
+    return v;
+  };
+  if (key == "krylov") {
+    need(1);
+    const std::string v = arg[1];
+    if (v == "auto") krylov = Krylov::AUTO;
+    else if (v == "cg") krylov = Krylov::CG;
+    else if (v == "gmres") krylov = Krylov::GMRES;
+    else error->all(FLERR, "min_modify krylov: expected auto, cg or gmres, not {}", v);
+    return 2;
+  }
+  if (key == "restart") {
+    need(1);
+    restart = NOSPD_INPUT::integer(error, "min_modify", "restart", arg[1], 1, 1000);
+    return 2;
+  }
+  if (key == "krylov_max") {
+    need(1);
+    max_krylov = NOSPD_INPUT::integer(error, "min_modify", "krylov_max", arg[1], 1, 100000000);
+    return 2;
+  }
+  if (key == "forcing") {
+    need(2);
+    eta_min = real_in("forcing (smallest)", arg[1], 1.0e-14, 0.9);
+    eta_max = real_in("forcing (largest)", arg[2], eta_min, 0.9);
+    return 3;
+  }
+  if (key == "precondition") {
+    need(1);
+    const std::string v = arg[1];
+    if (v == "surrogate") precond = Precondition::SURROGATE;
+    else if (v == "jacobi") precond = Precondition::JACOBI;
+    else error->all(FLERR, "min_modify precondition: expected surrogate or jacobi, not {}", v);
+    return 2;
+  }
+  if (key == "fd_step") {
+    need(1);
+    fd_step = real_in("fd_step", arg[1], 0.0, 1.0e300);
+    return 2;
+  }
+  return 0;
+}
+
+/* ---------------------------------------------------------------------- */
+
+void MinNospdNewton::init()
+{
+  Min::init();
+}
+
+/* ---------------------------------------------------------------------- */
+
+void MinNospdNewton::setup_style()
+{
+  if (nextra_global)
+    error->all(FLERR, "{} does not support fixes that add global degrees of freedom "
+               "(fix box/relax): use min_style cg", CMD);
+  if (nextra_atom)
+    error->all(FLERR, "{} does not support extra per-atom degrees of freedom: use min_style cg",
+               CMD);
+  // the pair styles are initialized by now (not yet at init())
+  auto *pair = PairPeriNospdBase::find(force);
+  auto *bonds = pair ? pair->bonds() : nullptr;
+  // CG needs a symmetric tangent: forces that are an energy's gradient and
+  // no inelastic state whose directional differences cross a yield surface
+  const bool potential = !pair || pair->potential_cause().empty();
+  const bool history = bonds && bonds->nhistory > 0;
+  use_cg = krylov == Krylov::CG || (krylov == Krylov::AUTO && potential && !history);
+  if (krylov == Krylov::CG && !potential && comm->me == 0)
+    error->warning(FLERR, "{}: min_modify krylov cg with forces that are not an energy's "
+                   "gradient ({}): the tangent is not symmetric; use krylov gmres",
+                   CMD, pair->potential_cause());
+  fix_minimize->add_vector(3);    // x0
+  fix_minimize->add_vector(3);    // du
+  fix_minimize->add_vector(3);    // mask: 1 free, 0 held
+}
+
+void MinNospdNewton::reset_vectors()
+{
+  nvec = 3 * atom->nlocal;
+  if (nvec) xvec = atom->x[0];
+  if (nvec) fvec = atom->f[0];
+  x0 = fix_minimize->request_vector(0);
+  du = fix_minimize->request_vector(1);
+  double *m = fix_minimize->request_vector(2);
+  mask.assign(m, m + nvec);
+}
+
+/* ---------------------------------------------------------------------- */
+
+double MinNospdNewton::global_dot(const double *a, const double *b) const
+{
+  double s = 0.0, all = 0.0;
+  for (int i = 0; i < nvec; i++) s += a[i] * b[i];
+  MPI_Allreduce(&s, &all, 1, MPI_DOUBLE, MPI_SUM, world);
+  return all;
+}
+
+// r = V f on the free degrees of freedom (the gradient of the total energy)
+void MinNospdNewton::residual(std::vector<double> &r)
+{
+  r.resize(nvec);
+  const double *vfrac = atom->vfrac;
+  for (int i = 0; i < nvec; i++) r[i] = mask[i] * (vfrac ? vfrac[i / 3] : 1.0) * fvec[i];
+}
+
+/* ----------------------------------------------------------------------
+   forces at positions within the neighbor skin of the last build: the
+   same calls as Min::energy_force without the reneighboring branch and
+   without energies, so that the local order of the atoms (and every
+   Krylov vector) stays valid
+------------------------------------------------------------------------- */
+
+void MinNospdNewton::force_no_reneighbor()
+{
+  timer->stamp();
+  comm->forward_comm();
+  timer->stamp(Timer::COMM);
+  ev_set(update->ntimestep);
+  eflag = vflag = 0;
+  force_clear();
+  if (modify->n_min_pre_force) modify->min_pre_force(vflag);
+  if (pair_compute_flag) force->pair->compute(eflag, vflag);
+  if (atom->molecular != Atom::ATOMIC) {
+    if (force->bond) force->bond->compute(eflag, vflag);
+    if (force->angle) force->angle->compute(eflag, vflag);
+    if (force->dihedral) force->dihedral->compute(eflag, vflag);
+    if (force->improper) force->improper->compute(eflag, vflag);
+  }
+  if (kspace_compute_flag) force->kspace->compute(eflag, vflag);
+  if (modify->n_min_pre_reverse) modify->min_pre_reverse(eflag, vflag);
+  if (force->newton) comm->reverse_comm();
+  if (modify->n_min_post_force) modify->min_post_force(vflag);
+  timer->stamp(Timer::PAIR);
+  neval++;
+}
+
+/* ----------------------------------------------------------------------
+   A v = -(r(x0 + h v) - r(x0)) / h, h scaled so that the move is `delta`
+   (root mean square over the free dofs): a forward directional difference
+------------------------------------------------------------------------- */
+
+double MinNospdNewton::probe(const double *v, double *Av)
+{
+  const double vv = global_dot(v, v);
+  if (!(vv > 0.0)) {
+    for (int i = 0; i < nvec; i++) Av[i] = 0.0;
+    return 0.0;
+  }
+  double nfree = 0.0;
+  for (int i = 0; i < nvec; i++) nfree += mask[i];
+  double all = 0.0;
+  MPI_Allreduce(&nfree, &all, 1, MPI_DOUBLE, MPI_SUM, world);
+  const double h = delta * std::sqrt(all / vv);
+  for (int i = 0; i < nvec; i++) xvec[i] = x0[i] + h * mask[i] * v[i];
+  force_no_reneighbor();
+  const double *vfrac = atom->vfrac;
+  for (int i = 0; i < nvec; i++)
+    Av[i] = -(mask[i] * (vfrac ? vfrac[i / 3] : 1.0) * fvec[i] - r0[i]) / h;
+  for (int i = 0; i < nvec; i++) xvec[i] = x0[i];
+  return h;
+}
+
+/* ----------------------------------------------------------------------
+   held degrees of freedom (fix setforce, 2D's z, points with no partner):
+   those whose force does not move at all when every position is moved
+   by a random amount; the Newton correction leaves them where they are
+------------------------------------------------------------------------- */
+
+void MinNospdNewton::find_free_dofs()
+{
+  double *m = fix_minimize->request_vector(2);
+  const int dim = domain->dimension;
+  const tagint *tag = atom->tag;
+  std::vector<double> f0(fvec, fvec + nvec);
+  for (int i = 0; i < nvec; i++) {
+    x0[i] = xvec[i];
+    xvec[i] += (i % 3 < dim) ? delta * hashed(tag[i / 3], i % 3) : 0.0;
+  }
+  force_no_reneighbor();
+  for (int i = 0; i < nvec; i++) m[i] = (i % 3 < dim && fvec[i] != f0[i]) ? 1.0 : 0.0;
+  for (int i = 0; i < nvec; i++) {
+    xvec[i] = x0[i];
+    fvec[i] = f0[i];
+  }
+  mask.assign(m, m + nvec);
+}
+
+/* ----------------------------------------------------------------------
+   an unconstrained body: a rigid translation or rotation of the free
+   points that the forces do not resist makes the tangent singular
+------------------------------------------------------------------------- */
+
+void MinNospdNewton::check_singular()
+{
+  const int dim = domain->dimension;
+  const tagint *tag = atom->tag;
+  std::vector<double> v(nvec), Av(nvec);
+  residual(r0);
+  auto stiffness = [&]() {
+    probe(v.data(), Av.data());
+    const double vv = global_dot(v.data(), v.data());
+    return vv > 0.0 ? std::sqrt(global_dot(Av.data(), Av.data()) / vv) : -1.0;
+  };
+  for (int i = 0; i < nvec; i++) v[i] = mask[i] * hashed(tag[i / 3], i % 3);
+  const double ref = stiffness();
+  if (!(ref > 0.0)) return;    // nothing free: nothing to solve
+  // centroid of the free points
+  double c[4] = {0.0, 0.0, 0.0, 0.0}, call[4];
+  for (int i = 0; i < nvec; i += 3)
+    if (mask[i] + mask[i + 1] + mask[i + 2] > 0.0) {
+      for (int d = 0; d < 3; d++) c[d] += xvec[i + d];
+      c[3] += 1.0;
+    }
+  MPI_Allreduce(c, call, 4, MPI_DOUBLE, MPI_SUM, world);
+  for (int d = 0; d < 3; d++) call[d] /= call[3];
+  const char *axis = "xyz";
+  for (int mode = 0; mode < 6; mode++) {
+    const bool rotation = mode >= 3;
+    const int d = mode % 3;
+    if (!rotation && d >= dim) continue;
+    if (rotation && dim == 2 && d != 2) continue;
+    for (int i = 0; i < nvec; i += 3) {
+      const double p[3] = {xvec[i] - call[0], xvec[i + 1] - call[1], xvec[i + 2] - call[2]};
+      double t[3] = {0.0, 0.0, 0.0};
+      if (!rotation) t[d] = 1.0;
+      else {    // e_d x p
+        const int a = (d + 1) % 3, b = (d + 2) % 3;
+        t[a] = -p[b];
+        t[b] = p[a];
+      }
+      for (int k = 0; k < 3; k++) v[i + k] = mask[i + k] * t[k];
+    }
+    const double s = stiffness();
+    if (s >= 0.0 && s < SINGULAR_RATIO * ref)
+      error->all(FLERR, "{}: the tangent is singular: nothing holds the body against a rigid "
+                 "{} {} {} (its stiffness is {:.2g} of a random direction's); hold points with "
+                 "fix setforce 0.0 0.0 0.0, a fix spring or a wall, or use min_style fire",
+                 CMD, rotation ? "rotation about" : "translation along", axis[d],
+                 rotation ? "(through the free points' centroid)" : "", s / ref);
+  }
+}
+
+/* ----------------------------------------------------------------------
+   block Jacobi: per point the 3x3 diagonal block of a bond-based body
+   with each type's P-wave micromodulus, V_i c sum_j w_j xi (x) xi / |xi|^3,
+   inverted on the point's free components
+------------------------------------------------------------------------- */
+
+void MinNospdNewton::build_preconditioner()
+{
+  const int nlocal = atom->nlocal;
+  pinv.assign(9 * static_cast<size_t>(nlocal), 0.0);
+  auto *pair = PairPeriNospdBase::find(force);
+  FixNospdBonds *bonds = pair ? pair->bonds() : nullptr;
+  const bool lists = bonds && bonds->bond_arrays_current() && bonds->bond_first;
+  const double *cmod = bonds ? bonds->get_model().wave_micromodulus : nullptr;
+  const double *vfrac = atom->vfrac;
+  const int *type = atom->type;
+  std::vector<double> B(9 * static_cast<size_t>(nlocal), 0.0);
+  std::vector<char> have(nlocal, 0);
+  double trace_sum = 0.0, count = 0.0;
+  for (int i = 0; lists && i < nlocal && i < bonds->nbond_atoms; i++) {
+    const double c = (cmod && cmod[type[i]] > 0.0 ? cmod[type[i]] : 1.0) * (vfrac ? vfrac[i] : 1.0);
+    double *b = &B[9 * static_cast<size_t>(i)];
+    for (int k = bonds->bond_first[i]; k < bonds->bond_first[i + 1]; k++) {
+      double xi[3];
+      bonds->bond_vector(i, k, xi);
+      const double l2 = xi[0] * xi[0] + xi[1] * xi[1] + xi[2] * xi[2];
+      if (!(l2 > 0.0)) continue;
+      const double s = c * bonds->bond_w[k] / (l2 * std::sqrt(l2));
+      for (int a = 0; a < 3; a++)
+        for (int e = 0; e < 3; e++) b[3 * a + e] += s * xi[a] * xi[e];
+    }
+    const double tr = b[0] + b[4] + b[8];
+    if (tr > 0.0) {
+      have[i] = 1;
+      trace_sum += tr / 3.0;
+      count += 1.0;
+    }
+  }
+  double sums[2] = {trace_sum, count}, all[2];
+  MPI_Allreduce(sums, all, 2, MPI_DOUBLE, MPI_SUM, world);
+  const double fallback = all[1] > 0.0 ? all[0] / all[1] : 1.0;
+  for (int i = 0; i < nlocal; i++) {
+    double b[9];
+    for (int k = 0; k < 9; k++) b[k] = have[i] ? B[9 * static_cast<size_t>(i) + k] : 0.0;
+    if (!have[i]) b[0] = b[4] = b[8] = fallback;
+    // held components: identity rows and columns, zeroed after inversion
+    const double *m = &mask[3 * static_cast<size_t>(i)];
+    for (int a = 0; a < 3; a++)
+      if (m[a] == 0.0)
+        for (int e = 0; e < 3; e++) b[3 * a + e] = b[3 * e + a] = (a == e) ? 1.0 : 0.0;
+    const double det = b[0] * (b[4] * b[8] - b[5] * b[7]) - b[1] * (b[3] * b[8] - b[5] * b[6]) +
+        b[2] * (b[3] * b[7] - b[4] * b[6]);
+    const double tr = b[0] + b[4] + b[8];
+    double *p = &pinv[9 * static_cast<size_t>(i)];
+    if (std::fabs(det) > 1.0e-12 * tr * tr * tr) {
+      p[0] = (b[4] * b[8] - b[5] * b[7]) / det;
+      p[1] = (b[2] * b[7] - b[1] * b[8]) / det;
+      p[2] = (b[1] * b[5] - b[2] * b[4]) / det;
+      p[3] = (b[5] * b[6] - b[3] * b[8]) / det;
+      p[4] = (b[0] * b[8] - b[2] * b[6]) / det;
+      p[5] = (b[2] * b[3] - b[0] * b[5]) / det;
+      p[6] = (b[3] * b[7] - b[4] * b[6]) / det;
+      p[7] = (b[1] * b[6] - b[0] * b[7]) / det;
+      p[8] = (b[0] * b[4] - b[1] * b[3]) / det;
+    } else {    // a family in a line or a plane: the diagonal alone
+      for (int a = 0; a < 3; a++) p[4 * a] = b[4 * a] > 0.0 ? 1.0 / b[4 * a] : 1.0 / fallback;
+    }
+    for (int a = 0; a < 3; a++)
+      for (int e = 0; e < 3; e++) p[3 * a + e] *= m[a] * m[e];
+  }
+}
+
+/* ----------------------------------------------------------------------
+   the surrogate's factor is kept from one minimize (load step) to the
+   next while the families, the intact bonds and the held dofs are the
+   same: its rows follow the atoms by tag, whatever order they have now
+------------------------------------------------------------------------- */
+
+void MinNospdNewton::prepare_surrogate()
+{
+  const int nlocal = atom->nlocal;
+  auto *pair = PairPeriNospdBase::find(force);
+  FixNospdBonds *bonds = pair ? pair->bonds() : nullptr;
+  const bool lists = bonds && bonds->bond_arrays_current() && bonds->bond_first;
+  // what the factor depends on
+  double key[3] = {0.0, 0.0, 0.0}, all[3];
+  const tagint *tag = atom->tag;
+  for (int i = 0; i < nvec; i++) key[0] += mask[i] * hashed(tag[i / 3], i % 3);
+  if (lists) key[1] = bonds->bond_first[std::min(nlocal, bonds->nbond_atoms)];
+  key[2] = bonds ? static_cast<double>(bonds->families_serial) : -1.0;
+  MPI_Allreduce(key, all, 3, MPI_DOUBLE, MPI_SUM, world);
+  bool same = surrogate_factored && all[0] == surrogate_key[0] && all[1] == surrogate_key[1] &&
+      all[2] == surrogate_key[2] && static_cast<int>(surrogate_tags.size()) == nlocal;
+  // this order's row of each cached row
+  surrogate_row.assign(nlocal, -1);
+  for (int k = 0; same && k < nlocal; k++) {
+    const int i = atom->map(surrogate_tags[k]);
+    if (i < 0 || i >= nlocal || surrogate_row[i] >= 0) same = false;
+    else surrogate_row[i] = k;
+  }
+  int ok = same ? 1 : 0, every = 0;
+  MPI_Allreduce(&ok, &every, 1, MPI_INT, MPI_MIN, world);
+  if (every) return;
+  for (int k = 0; k < 3; k++) surrogate_key[k] = all[k];
+  surrogate_tags.assign(tag, tag + nlocal);
+  for (int i = 0; i < nlocal; i++) surrogate_row[i] = i;
+  surrogate_factored = build_surrogate(bonds, lists);
+  if (!surrogate_factored && comm->me == 0)
+    error->warning(FLERR, "{}: the bond-based surrogate could not be factored; block Jacobi "
+                   "instead", CMD);
+}
+
+bool MinNospdNewton::build_surrogate(FixNospdBonds *bonds, bool lists)
+{
+  const int nlocal = atom->nlocal;
+  const double *cmod = bonds ? bonds->get_model().wave_micromodulus : nullptr;
+  const double *vfrac = atom->vfrac;
+  const int *type = atom->type;
+  std::vector<NOSPD::SurrogatePreconditioner::Bond> list;
+  auto modulus = [&](int i) { return cmod && cmod[type[i]] > 0.0 ? cmod[type[i]] : 1.0; };
+  auto length = [](const double *v) { return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); };
+  for (int i = 0; lists && i < nlocal && i < bonds->nbond_atoms; i++) {
+    double shortest = 1e300, xi[3];
+    for (int k = bonds->bond_first[i]; k < bonds->bond_first[i + 1]; k++) {
+      bonds->bond_vector(i, k, xi);
+      shortest = std::min(shortest, length(xi));
+    }
+    for (int k = bonds->bond_first[i]; k < bonds->bond_first[i + 1]; k++) {
+      NOSPD::SurrogatePreconditioner::Bond b;
+      bonds->bond_vector(i, k, b.xi);
+      if (length(b.xi) > SURROGATE_REACH * shortest) continue;
+      const int j = bonds->bond_j[k];
+      b.i = i;
+      b.j = j < nlocal ? j : nlocal;
+      const double cij = j < nlocal ? 0.5 * (modulus(i) + modulus(j)) : modulus(i);
+      b.c = cij * (vfrac ? vfrac[i] : 1.0) * bonds->bond_w[k];
+      list.push_back(b);
+    }
+  }
+  const auto kind = nvec <= DIRECT_DOFS ? NOSPD::SurrogatePreconditioner::Kind::DIRECT
+                                        : NOSPD::SurrogatePreconditioner::Kind::INCOMPLETE;
+  int ok = surrogate.build(nlocal, list, mask.data(), kind) ? 1 : 0, all = 0;
+  MPI_Allreduce(&ok, &all, 1, MPI_INT, MPI_MIN, world);
+  return all == 1;
+}
+
+void MinNospdNewton::precondition(const double *r, double *z)
+{
+  if (precond == Precondition::SURROGATE && surrogate_factored) {
+    const int n = nvec / 3;
+    gather.resize(nvec);
+    scatter.resize(nvec);
+    for (int i = 0; i < n; i++)
+      for (int a = 0; a < 3; a++) gather[3 * surrogate_row[i] + a] = r[3 * i + a];
+    surrogate.apply(gather.data(), scatter.data());
+    for (int i = 0; i < n; i++)
+      for (int a = 0; a < 3; a++) z[3 * i + a] = scatter[3 * surrogate_row[i] + a];
+    return;
+  }
+  for (int i = 0; i < nvec; i += 3) {
+    const double *p = &pinv[3 * static_cast<size_t>(i)];
+    for (int a = 0; a < 3; a++)
+      z[i + a] = p[3 * a] * r[i] + p[3 * a + 1] * r[i + 1] + p[3 * a + 2] * r[i + 2];
+  }
+}
+
+/* ----------------------------------------------------------------------
+   the largest step fraction that moves no atom by more than min_modify
+   dmax (LAMMPS's meaning: the most an atom moves in one iteration)
+------------------------------------------------------------------------- */
+
+double MinNospdNewton::step_cap() const
+{
+  double big = 0.0, all = 0.0;
+  for (int i = 0; i < nvec; i++) big = std::max(big, std::fabs(du[i]));
+  MPI_Allreduce(&big, &all, 1, MPI_DOUBLE, MPI_MAX, world);
+  return all > dmax ? dmax / all : 1.0;
+}
+
+/* ----------------------------------------------------------------------
+   backtracking on |r| (Armijo): x = x0 + alpha du, alpha halved until the
+   residual falls by the fraction ARMIJO alpha; 0 when accepted
+------------------------------------------------------------------------- */
+
+int MinNospdNewton::line_search(double rnorm, double &alpha)
+{
+  alpha = step_cap();
+  std::vector<double> r;
+  for (int trial = 0; trial < MAX_BACKTRACK; trial++) {
+    for (int i = 0; i < nvec; i++) xvec[i] = x0[i] + alpha * du[i];
+    ecurrent = energy_force(1);
+    neval++;
+    residual(r);
+    const double rn = std::sqrt(global_dot(r.data(), r.data()));
+    if (std::isfinite(rn) && rn <= (1.0 - ARMIJO * alpha) * rnorm) return 0;
+    alpha *= 0.5;
+  }
+  for (int i = 0; i < nvec; i++) xvec[i] = x0[i];
+  ecurrent = energy_force(1);
+  neval++;
+  alpha = 0.0;
+  return 1;
+}
+
+/* ---------------------------------------------------------------------- */
+
+int MinNospdNewton::iterate(int maxiter)
+{
+  const double dvalue = std::max(domain->prd[0], std::max(domain->prd[1], domain->prd[2]));
+  delta = fd_step > 0.0 ? fd_step : 1.5e-8 * dvalue;
+  newton_steps = krylov_total = last_krylov = 0;
+  residual_history.clear();
+  for (int i = 0; i < nvec; i++) x0[i] = xvec[i];
+  find_free_dofs();
+  check_singular();
+  force_no_reneighbor();    // the state of x, not of the last probe
+
+  auto fnorm_now = [&]() {
+    if (normstyle == MAX) return fnorm_max();
+    if (normstyle == INF) return fnorm_inf();
+    return fnorm_sqr();
+  };
+  double eta = eta_max, rprev = 0.0;
+  std::vector<double> Av;
+  for (int iter = 0; iter < maxiter; iter++) {
+    if (update->ftol > 0.0 && fnorm_now() < update->ftol * update->ftol) return FTOL;
+    if (timer->check_timeout(niter)) return TIMEOUT;
+    const bigint ntimestep = ++update->ntimestep;
+    niter++;
+    eprevious = ecurrent;
+
+    for (int i = 0; i < nvec; i++) x0[i] = xvec[i];
+    residual(r0);
+    const double rnorm = std::sqrt(global_dot(r0.data(), r0.data()));
+    residual_history.push_back(rnorm);
+    if (rnorm == 0.0) return ZEROFORCE;
+    // Eisenstat-Walker (choice 2): solve loosely far away, tightly near
+    if (rprev > 0.0) {
+      const double ew = 0.9 * (rnorm / rprev) * (rnorm / rprev);
+      const double safe = 0.9 * eta * eta;
+      eta = std::min(eta_max, std::max(ew, safe > 0.1 ? safe : 0.0));
+      eta = std::max(eta, eta_min);
+    }
+    rprev = rnorm;
+    if (precond == Precondition::SURROGATE) prepare_surrogate();
+    if (precond == Precondition::JACOBI || !surrogate_factored) build_preconditioner();
+
+    auto A = [&](const double *v, double *out) { probe(v, out); };
+    auto M = [&](const double *r, double *z) { precondition(r, z); };
+    auto dot = [&](const double *a, const double *b) { return global_dot(a, b); };
+    NOSPD::KrylovResult kr = use_cg
+        ? NOSPD::cg(nvec, r0.data(), du, A, M, dot, eta, max_krylov)
+        : NOSPD::gmres(nvec, r0.data(), du, A, M, dot, eta, restart, max_krylov);
+    if (use_cg && kr.indefinite && kr.iterations <= 1) {
+      // negative curvature at the start: GMRES needs no definiteness
+      kr = NOSPD::gmres(nvec, r0.data(), du, A, M, dot, eta, restart, max_krylov);
+    }
+    last_krylov = kr.iterations;
+    krylov_total += kr.iterations;
+    newton_steps++;
+
+    int fail = line_search(rnorm, alpha_final);
+    if (comm->me == 0)
+      utils::logmesg(lmp, "  {} step {}: |V f| {:.6g}, {} {} iterations ({:.2g} of {:.2g}), "
+                     "step {:.4g}\n", "nospd/newton", niter, rnorm, use_cg ? "cg" : "gmres",
+                     kr.iterations, kr.residual / kr.initial, eta, alpha_final);
+    if (fail) {
+      if (comm->me == 0)
+        error->warning(FLERR, "{}: no step along the Newton direction lowers the residual "
+                       "|V f| = {:.6g} (the Krylov solve reached {:.2g} of its start in {} "
+                       "iterations): raise min_modify krylov_max, try min_modify krylov gmres, "
+                       "or split the load into smaller steps", CMD, rnorm,
+                       kr.residual / kr.initial, kr.iterations);
+      return ZEROALPHA;
+    }
+    if (neval >= update->max_eval) return MAXEVAL;
+    if (std::fabs(ecurrent - eprevious) <
+        update->etol * 0.5 * (std::fabs(ecurrent) + std::fabs(eprevious) + EPS_ENERGY))
+      return ETOL;
+    if (update->ftol > 0.0 && fnorm_now() < update->ftol * update->ftol) return FTOL;
+
+    if (output->next == ntimestep) {
+      timer->stamp();
+      output->write(ntimestep);
+      timer->stamp(Timer::OUTPUT);
+    }
+  }
+  return MAXITER;
+}
