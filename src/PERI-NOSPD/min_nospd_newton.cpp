@@ -38,13 +38,20 @@ constexpr const char *CMD = "min_style nospd/newton";
 constexpr double EPS_ENERGY = 1.0e-8;    // as LAMMPS's line searches
 constexpr double ARMIJO = 1.0e-4;
 constexpr int MAX_BACKTRACK = 30;
+// the forcing of the retry when a loose solve's direction does not descend
+constexpr double RETRY_FORCING = 1.0e-4;
+// |r| below this fraction of its start is near the rounding of the forces
+// (positions carry ~1e-16 of the box; differences of them ~1e-10 of a
+// load): a step that lowered it by less than STALL there ends the solve
+constexpr double ROUNDING_FLOOR = 1.0e-7;
+constexpr double STALL = 0.5;
 // a rigid mode whose stiffness is below this fraction of a random
 // direction's is taken as free (directional differences resolve ~1e-8)
 constexpr double SINGULAR_RATIO = 1.0e-6;
-// the surrogate keeps a point's bonds up to this multiple of its shortest
-// (a lattice's nearest and diagonal neighbours): as good a preconditioner
-// as the whole family at a fraction of the Cholesky factor's fill
-constexpr double SURROGATE_REACH = 1.5;
+// the surrogate keeps the bonds up to this fraction of the horizon (at
+// three spacings: a lattice's nearest and diagonal neighbours): nearly as
+// good a preconditioner as the whole family at a fraction of the fill
+constexpr double SURROGATE_REACH = 0.5;
 // owned dofs up to which the surrogate is factored exactly (beyond: an
 // incomplete factor, whose Krylov counts grow with the resolution)
 constexpr int DIRECT_DOFS = 600000;
@@ -149,6 +156,7 @@ void MinNospdNewton::setup_style()
   const bool potential = !pair || pair->potential_cause().empty();
   const bool history = bonds && bonds->nhistory > 0;
   use_cg = krylov == Krylov::CG || (krylov == Krylov::AUTO && potential && !history);
+  this->potential = potential;
   if (krylov == Krylov::CG && !potential && comm->me == 0)
     error->warning(FLERR, "{}: min_modify krylov cg with forces that are not an energy's "
                    "gradient ({}): the tangent is not symmetric; use krylov gmres",
@@ -445,24 +453,19 @@ bool MinNospdNewton::build_surrogate(FixNospdBonds *bonds, bool lists)
   std::vector<NOSPD::SurrogatePreconditioner::Bond> list;
   auto modulus = [&](int i) { return cmod && cmod[type[i]] > 0.0 ? cmod[type[i]] : 1.0; };
   auto length = [](const double *v) { return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); };
-  for (int i = 0; lists && i < nlocal && i < bonds->nbond_atoms; i++) {
-    double shortest = 1e300, xi[3];
-    for (int k = bonds->bond_first[i]; k < bonds->bond_first[i + 1]; k++) {
-      bonds->bond_vector(i, k, xi);
-      shortest = std::min(shortest, length(xi));
-    }
+  double **horizon = bonds ? bonds->get_model().horizon : nullptr;
+  for (int i = 0; lists && horizon && i < nlocal && i < bonds->nbond_atoms; i++)
     for (int k = bonds->bond_first[i]; k < bonds->bond_first[i + 1]; k++) {
       NOSPD::SurrogatePreconditioner::Bond b;
       bonds->bond_vector(i, k, b.xi);
-      if (length(b.xi) > SURROGATE_REACH * shortest) continue;
       const int j = bonds->bond_j[k];
+      if (length(b.xi) > SURROGATE_REACH * horizon[type[i]][type[j]]) continue;
       b.i = i;
       b.j = j < nlocal ? j : nlocal;
       const double cij = j < nlocal ? 0.5 * (modulus(i) + modulus(j)) : modulus(i);
       b.c = cij * (vfrac ? vfrac[i] : 1.0) * bonds->bond_w[k];
       list.push_back(b);
     }
-  }
   const auto kind = nvec <= DIRECT_DOFS ? NOSPD::SurrogatePreconditioner::Kind::DIRECT
                                         : NOSPD::SurrogatePreconditioner::Kind::INCOMPLETE;
   int ok = surrogate.build(nlocal, list, mask.data(), kind) ? 1 : 0, all = 0;
@@ -504,13 +507,25 @@ double MinNospdNewton::step_cap() const
 }
 
 /* ----------------------------------------------------------------------
-   backtracking on |r| (Armijo): x = x0 + alpha du, alpha halved until the
-   residual falls by the fraction ARMIJO alpha; 0 when accepted
+   backtracking (Armijo): x = x0 + alpha du, alpha halved until the
+   residual falls by the fraction ARMIJO alpha or, where the forces are an
+   energy's gradient (the load step's incremental potential under
+   plasticity), the energy falls by ARMIJO alpha of its slope: the energy
+   guides a step across a yield surface, the residual the rounding-limited
+   tail; 0 when accepted.  On failure x is x0 again, with its forces.
 ------------------------------------------------------------------------- */
 
 int MinNospdNewton::line_search(double rnorm, double &alpha)
 {
   alpha = step_cap();
+  // slope of the energy along du: -f . du (pe and f as LAMMPS sums them)
+  const double *vfrac = atom->vfrac;
+  double slope = 0.0;
+  for (int i = 0; i < nvec; i++) slope -= r0[i] / (vfrac ? vfrac[i / 3] : 1.0) * du[i];
+  double all = 0.0;
+  MPI_Allreduce(&slope, &all, 1, MPI_DOUBLE, MPI_SUM, world);
+  const bool by_energy = potential && all < 0.0;
+  const double e0 = ecurrent;
   std::vector<double> r;
   for (int trial = 0; trial < MAX_BACKTRACK; trial++) {
     for (int i = 0; i < nvec; i++) xvec[i] = x0[i] + alpha * du[i];
@@ -519,13 +534,72 @@ int MinNospdNewton::line_search(double rnorm, double &alpha)
     residual(r);
     const double rn = std::sqrt(global_dot(r.data(), r.data()));
     if (std::isfinite(rn) && rn <= (1.0 - ARMIJO * alpha) * rnorm) return 0;
+    if (by_energy && std::isfinite(rn) && ecurrent <= e0 + ARMIJO * alpha * all) return 0;
     alpha *= 0.5;
   }
   for (int i = 0; i < nvec; i++) xvec[i] = x0[i];
   ecurrent = energy_force(1);
   neval++;
   alpha = 0.0;
+  // the atoms may have been sorted or exchanged: per-atom state anew
+  residual(r0);
+  if (precond == Precondition::SURROGATE) prepare_surrogate();
+  if (precond == Precondition::JACOBI || !surrogate_factored) build_preconditioner();
   return 1;
+}
+
+/* ---------------------------------------------------------------------- */
+
+NOSPD::KrylovResult MinNospdNewton::solve(double eta)
+{
+  auto A = [&](const double *v, double *out) { probe(v, out); };
+  auto M = [&](const double *r, double *z) { precondition(r, z); };
+  auto dot = [&](const double *a, const double *b) { return global_dot(a, b); };
+  NOSPD::KrylovResult kr = use_cg
+      ? NOSPD::cg(nvec, r0.data(), du, A, M, dot, eta, max_krylov)
+      : NOSPD::gmres(nvec, r0.data(), du, A, M, dot, eta, restart, max_krylov);
+  // negative curvature at the start: GMRES needs no definiteness
+  if (use_cg && kr.indefinite && kr.iterations <= 1)
+    kr = NOSPD::gmres(nvec, r0.data(), du, A, M, dot, eta, restart, max_krylov);
+  last_krylov += kr.iterations;
+  krylov_total += kr.iterations;
+  return kr;
+}
+
+/* ----------------------------------------------------------------------
+   one Newton step from x0 with residual r0: the inexact solve, and when
+   no step along it lowers the merit (a loose solve, or a directional
+   difference across a yield surface) a tight solve, then the
+   preconditioned residual itself; 0 when a step was taken
+------------------------------------------------------------------------- */
+
+int MinNospdNewton::newton_step(double rnorm, double eta)
+{
+  last_krylov = 0;
+  NOSPD::KrylovResult kr = solve(eta);
+  int fail = line_search(rnorm, alpha_final);
+  const char *how = use_cg ? "cg" : "gmres";
+  if (fail && eta > RETRY_FORCING) {
+    kr = solve(RETRY_FORCING);
+    fail = line_search(rnorm, alpha_final);
+    how = "tight";
+  }
+  if (fail) {
+    precondition(r0.data(), du);
+    fail = line_search(rnorm, alpha_final);
+    how = "residual";
+  }
+  if (comm->me == 0)
+    utils::logmesg(lmp, "  nospd/newton {}: |V f| {:.6g}, {} iterations ({}, {:.2g} of {:.2g}), "
+                   "step {:.4g}\n", niter, rnorm, last_krylov, how, kr.residual / kr.initial,
+                   eta, alpha_final);
+  if (fail && comm->me == 0 && rnorm > ROUNDING_FLOOR * residual_history.front())
+    error->warning(FLERR, "{}: no step lowers the residual |V f| = {:.6g} ({:.2g} of its "
+                   "start), neither along the Newton direction (Krylov {:.2g} of its start) "
+                   "nor along the preconditioned residual: split the load into smaller steps, "
+                   "raise min_modify krylov_max, or use min_style fire", CMD, rnorm,
+                   rnorm / residual_history.front(), kr.residual / kr.initial);
+  return fail;
 }
 
 /* ---------------------------------------------------------------------- */
@@ -541,70 +615,49 @@ int MinNospdNewton::iterate(int maxiter)
   check_singular();
   force_no_reneighbor();    // the state of x, not of the last probe
 
-  auto fnorm_now = [&]() {
-    if (normstyle == MAX) return fnorm_max();
-    if (normstyle == INF) return fnorm_inf();
-    return fnorm_sqr();
+  auto fnorm_below = [&]() {
+    if (!(update->ftol > 0.0)) return false;
+    const double f2 = normstyle == MAX ? fnorm_max() : normstyle == INF ? fnorm_inf() : fnorm_sqr();
+    return f2 < update->ftol * update->ftol;
   };
   double eta = eta_max, rprev = 0.0;
-  std::vector<double> Av;
+  int slow = 0;
   for (int iter = 0; iter < maxiter; iter++) {
-    if (update->ftol > 0.0 && fnorm_now() < update->ftol * update->ftol) return FTOL;
+    if (fnorm_below()) return FTOL;
     if (timer->check_timeout(niter)) return TIMEOUT;
     const bigint ntimestep = ++update->ntimestep;
     niter++;
     eprevious = ecurrent;
-
     for (int i = 0; i < nvec; i++) x0[i] = xvec[i];
     residual(r0);
     const double rnorm = std::sqrt(global_dot(r0.data(), r0.data()));
     residual_history.push_back(rnorm);
     if (rnorm == 0.0) return ZEROFORCE;
-    // Eisenstat-Walker (choice 2): solve loosely far away, tightly near
+    // Eisenstat-Walker (choice 2, safeguarded): loosely far away, tightly near
     if (rprev > 0.0) {
       const double ew = 0.9 * (rnorm / rprev) * (rnorm / rprev);
       const double safe = 0.9 * eta * eta;
-      eta = std::min(eta_max, std::max(ew, safe > 0.1 ? safe : 0.0));
-      eta = std::max(eta, eta_min);
+      eta = std::max(eta_min, std::min(eta_max, std::max(ew, safe > 0.1 ? safe : 0.0)));
+      // at the rounding floor of the forces steps stall: stop there
+      slow = rnorm > STALL * rprev ? slow + 1 : 0;
+      if (slow >= 1 && rnorm < ROUNDING_FLOOR * residual_history.front()) {
+        if (comm->me == 0)
+          utils::logmesg(lmp, "  nospd/newton: |V f| {:.3g} is {:.2g} of its start, the "
+                         "rounding of the forces: no smaller force tolerance can be met\n",
+                         rnorm, rnorm / residual_history.front());
+        return ZEROALPHA;
+      }
     }
     rprev = rnorm;
     if (precond == Precondition::SURROGATE) prepare_surrogate();
     if (precond == Precondition::JACOBI || !surrogate_factored) build_preconditioner();
-
-    auto A = [&](const double *v, double *out) { probe(v, out); };
-    auto M = [&](const double *r, double *z) { precondition(r, z); };
-    auto dot = [&](const double *a, const double *b) { return global_dot(a, b); };
-    NOSPD::KrylovResult kr = use_cg
-        ? NOSPD::cg(nvec, r0.data(), du, A, M, dot, eta, max_krylov)
-        : NOSPD::gmres(nvec, r0.data(), du, A, M, dot, eta, restart, max_krylov);
-    if (use_cg && kr.indefinite && kr.iterations <= 1) {
-      // negative curvature at the start: GMRES needs no definiteness
-      kr = NOSPD::gmres(nvec, r0.data(), du, A, M, dot, eta, restart, max_krylov);
-    }
-    last_krylov = kr.iterations;
-    krylov_total += kr.iterations;
     newton_steps++;
-
-    int fail = line_search(rnorm, alpha_final);
-    if (comm->me == 0)
-      utils::logmesg(lmp, "  {} step {}: |V f| {:.6g}, {} {} iterations ({:.2g} of {:.2g}), "
-                     "step {:.4g}\n", "nospd/newton", niter, rnorm, use_cg ? "cg" : "gmres",
-                     kr.iterations, kr.residual / kr.initial, eta, alpha_final);
-    if (fail) {
-      if (comm->me == 0)
-        error->warning(FLERR, "{}: no step along the Newton direction lowers the residual "
-                       "|V f| = {:.6g} (the Krylov solve reached {:.2g} of its start in {} "
-                       "iterations): raise min_modify krylov_max, try min_modify krylov gmres, "
-                       "or split the load into smaller steps", CMD, rnorm,
-                       kr.residual / kr.initial, kr.iterations);
-      return ZEROALPHA;
-    }
+    if (newton_step(rnorm, eta)) return ZEROALPHA;
     if (neval >= update->max_eval) return MAXEVAL;
     if (std::fabs(ecurrent - eprevious) <
         update->etol * 0.5 * (std::fabs(ecurrent) + std::fabs(eprevious) + EPS_ENERGY))
       return ETOL;
-    if (update->ftol > 0.0 && fnorm_now() < update->ftol * update->ftol) return FTOL;
-
+    if (fnorm_below()) return FTOL;
     if (output->next == ntimestep) {
       timer->stamp();
       output->write(ntimestep);

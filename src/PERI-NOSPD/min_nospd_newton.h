@@ -22,6 +22,7 @@ MinimizeStyle(nospd/newton,MinNospdNewton);
 #define LMP_MIN_NOSPD_NEWTON_H
 
 #include "min.h"
+#include "nospd_krylov.h"
 #include "nospd_surrogate.h"
 
 #include <vector>
@@ -45,6 +46,7 @@ class MinNospdNewton : public Min {
   enum class Krylov { AUTO, CG, GMRES };
   Krylov krylov = Krylov::AUTO;
   bool use_cg = false;
+  bool potential = true;    // the forces are an energy's gradient
   int restart = 50;           // GMRES(m)
   int max_krylov = 1000;      // operator applications per Newton step
   double eta_max = 0.1;       // Eisenstat-Walker forcing bounds
@@ -76,6 +78,8 @@ class MinNospdNewton : public Min {
   void build_preconditioner();
   void precondition(const double *r, double *z);
   int line_search(double rnorm, double &alpha);
+  NOSPD::KrylovResult solve(double eta);
+  int newton_step(double rnorm, double eta);
   double step_cap() const;
 };
 
