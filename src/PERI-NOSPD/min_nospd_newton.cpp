@@ -27,6 +27,8 @@
 #include "update.h"
 #include "utils.h"
 
+#include <Eigen/Eigenvalues>
+
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -286,17 +288,15 @@ void MinNospdNewton::check_singular()
 {
   const int dim = domain->dimension;
   const tagint *tag = atom->tag;
-  std::vector<double> v(nvec), Av(nvec);
   residual(r0);
-  auto stiffness = [&]() {
-    probe(v.data(), Av.data());
-    const double vv = global_dot(v.data(), v.data());
-    return vv > 0.0 ? std::sqrt(global_dot(Av.data(), Av.data()) / vv) : -1.0;
-  };
+  std::vector<double> v(nvec), Av(nvec);
   for (int i = 0; i < nvec; i++) v[i] = mask[i] * hashed(tag[i / 3], i % 3);
-  const double ref = stiffness();
-  if (!(ref > 0.0)) return;    // nothing free: nothing to solve
-  // centroid of the free points
+  probe(v.data(), Av.data());
+  const double vv = global_dot(v.data(), v.data());
+  if (!(vv > 0.0)) return;    // nothing free: nothing to solve
+  const double ref = global_dot(Av.data(), Av.data()) / vv;
+  // the rigid modes restricted to the free dofs: translations, rotations
+  // about the centroid; their span holds the rotation about any held point
   double c[4] = {0.0, 0.0, 0.0, 0.0}, call[4];
   for (int i = 0; i < nvec; i += 3)
     if (mask[i] + mask[i + 1] + mask[i + 2] > 0.0) {
@@ -305,31 +305,55 @@ void MinNospdNewton::check_singular()
     }
   MPI_Allreduce(c, call, 4, MPI_DOUBLE, MPI_SUM, world);
   for (int d = 0; d < 3; d++) call[d] /= call[3];
-  const char *axis = "xyz";
+  std::vector<int> modes;
+  std::vector<std::vector<double>> T, AT;
   for (int mode = 0; mode < 6; mode++) {
     const bool rotation = mode >= 3;
     const int d = mode % 3;
-    if (!rotation && d >= dim) continue;
-    if (rotation && dim == 2 && d != 2) continue;
+    if ((!rotation && d >= dim) || (rotation && dim == 2 && d != 2)) continue;
     for (int i = 0; i < nvec; i += 3) {
       const double p[3] = {xvec[i] - call[0], xvec[i + 1] - call[1], xvec[i + 2] - call[2]};
       double t[3] = {0.0, 0.0, 0.0};
       if (!rotation) t[d] = 1.0;
       else {    // e_d x p
-        const int a = (d + 1) % 3, b = (d + 2) % 3;
-        t[a] = -p[b];
-        t[b] = p[a];
+        t[(d + 1) % 3] = -p[(d + 2) % 3];
+        t[(d + 2) % 3] = p[(d + 1) % 3];
       }
       for (int k = 0; k < 3; k++) v[i + k] = mask[i + k] * t[k];
     }
-    const double s = stiffness();
-    if (s >= 0.0 && s < SINGULAR_RATIO * ref)
-      error->all(FLERR, "{}: the tangent is singular: nothing holds the body against a rigid "
-                 "{} {} {} (its stiffness is {:.2g} of a random direction's); hold points with "
-                 "fix setforce 0.0 0.0 0.0, a fix spring or a wall, or use min_style fire",
-                 CMD, rotation ? "rotation about" : "translation along", axis[d],
-                 rotation ? "(through the free points' centroid)" : "", s / ref);
+    if (!(global_dot(v.data(), v.data()) > 0.0)) continue;
+    probe(v.data(), Av.data());
+    modes.push_back(mode);
+    T.push_back(v);
+    AT.push_back(Av);
   }
+  // the least stiff combination: min |A T c|^2 / |T c|^2
+  const int m = static_cast<int>(modes.size());
+  if (m == 0) return;
+  Eigen::MatrixXd GA(m, m), GT(m, m);
+  for (int a = 0; a < m; a++)
+    for (int b = 0; b < m; b++) {
+      GA(a, b) = global_dot(AT[a].data(), AT[b].data());
+      GT(a, b) = global_dot(T[a].data(), T[b].data());
+    }
+  GT += 1.0e-14 * GT.trace() * Eigen::MatrixXd::Identity(m, m);
+  Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> eig(GA, GT);
+  const double s = std::sqrt(std::max(0.0, eig.eigenvalues()(0)) / ref);
+  if (!(s < SINGULAR_RATIO)) return;
+  const Eigen::VectorXd w = eig.eigenvectors().col(0);
+  double big = 0.0;
+  for (int a = 0; a < m; a++) big = std::max(big, std::fabs(w(a)) * std::sqrt(GT(a, a)));
+  std::string which;
+  const char *axis = "xyz";
+  for (int a = 0; a < m; a++)
+    if (std::fabs(w(a)) * std::sqrt(GT(a, a)) >= 0.3 * big)
+      which += fmt::format("{}{} {}", which.empty() ? "" : ", ",
+                           modes[a] >= 3 ? "rotation about" : "translation along",
+                           axis[modes[a] % 3]);
+  error->all(FLERR, "{}: the tangent is singular: nothing holds the body against a rigid "
+             "motion ({}; its stiffness is {:.2g} of a random direction's); hold points "
+             "with fix setforce 0.0 0.0 0.0, a fix spring or a wall, or use min_style fire",
+             CMD, which, s);
 }
 
 /* ----------------------------------------------------------------------
