@@ -576,6 +576,11 @@ int MinNospdNewton::line_search(double rnorm, double &alpha)
 
 NOSPD::KrylovResult MinNospdNewton::solve(double eta)
 {
+  // the probes see the laws' consistent tangents where they offer them
+  auto *pair = PairPeriNospdBase::find(force);
+  int nlin = pair ? pair->begin_linearization() : 0, all = 0;
+  MPI_Allreduce(&nlin, &all, 1, MPI_INT, MPI_SUM, world);
+  law_tangent_points = all;
   auto A = [&](const double *v, double *out) { probe(v, out); };
   auto M = [&](const double *r, double *z) { precondition(r, z); };
   auto dot = [&](const double *a, const double *b) { return global_dot(a, b); };
@@ -585,6 +590,7 @@ NOSPD::KrylovResult MinNospdNewton::solve(double eta)
   // negative curvature at the start: GMRES needs no definiteness
   if (use_cg && kr.indefinite && kr.iterations <= 1)
     kr = NOSPD::gmres(nvec, r0.data(), du, A, M, dot, eta, restart, max_krylov);
+  if (pair) pair->end_linearization();
   last_krylov += kr.iterations;
   krylov_total += kr.iterations;
   return kr;
@@ -615,8 +621,10 @@ int MinNospdNewton::newton_step(double rnorm, double eta)
   }
   if (comm->me == 0)
     utils::logmesg(lmp, "  nospd/newton {}: |V f| {:.6g}, {} iterations ({}, {:.2g} of {:.2g}), "
-                   "step {:.4g}\n", niter, rnorm, last_krylov, how, kr.residual / kr.initial,
-                   eta, alpha_final);
+                   "step {:.4g}{}\n", niter, rnorm, last_krylov, how, kr.residual / kr.initial,
+                   eta, alpha_final,
+                   law_tangent_points ? fmt::format(", law tangent at {} points",
+                                                    law_tangent_points) : "");
   if (fail && comm->me == 0 && rnorm > ROUNDING_FLOOR * residual_history.front())
     error->warning(FLERR, "{}: no step lowers the residual |V f| = {:.6g} ({:.2g} of its "
                    "start), neither along the Newton direction (Krylov {:.2g} of its start) "

@@ -40,6 +40,7 @@ class MinNospdNewton : public Min {
 
   // figures of the last minimize for tests and output (rank-independent)
   int newton_steps = 0, krylov_total = 0, last_krylov = 0;
+  bigint law_tangent_points = 0;    // points whose probes took their law's tangent
   std::vector<double> residual_history;    // masked |V f| at each iterate
 
  protected:

@@ -236,6 +236,16 @@ void PairPeriNospd::carried_stress(int i, Mat3 &F, Mat3 &P, double &W, const NOS
 
 void PairPeriNospd::point_stress(int i, Mat3 &F, Mat3 &P, double &W, const NOSPD::PointEnv &env0)
 {
+  if (linearized && lin_row[i] >= 0) {
+    const double *r = &lin[static_cast<size_t>(LIN_RECORD) * lin_row[i]];
+    Eigen::Matrix<double, 9, 1> dF;
+    for (int k = 0; k < 9; k++) dF(k) = F(k / 3, k % 3) - r[k];
+    const Eigen::Matrix<double, 9, 1> dP =
+        Eigen::Map<const NOSPD::Tangent9>(r + 18) * dF;
+    for (int k = 0; k < 9; k++) P(k / 3, k % 3) = r[9 + k] + dP(k);
+    W = 0.0;    // a probe carries no energy (eflag is off)
+    return;
+  }
   const NOSPD::Material &law = *materials[atom->type[i]];
   NOSPD::MaterialEnv env;
   env.dt = env0.dt;
@@ -253,4 +263,43 @@ void PairPeriNospd::point_stress(int i, Mat3 &F, Mat3 &P, double &W, const NOSPD
       law.stress(F, history ? fix_bonds->history[i] : nullptr,
                  history ? fix_bonds->history_trial[i] : nullptr, env, P, W);
   if (!st.ok()) material_failure(i, st, F);
+}
+
+/* ----------------------------------------------------------------------
+   the points with history whose law offers its consistent tangent, at the
+   F, P and history of the last force evaluation (carried families and
+   singular points keep their law: the directional difference takes them)
+------------------------------------------------------------------------- */
+
+int PairPeriNospd::begin_linearization()
+{
+  const int nlocal = atom->nlocal;
+  lin_row.assign(nlocal, -1);
+  lin.clear();
+  linearized = false;
+  if (!fix_bonds || fix_bonds->nhistory == 0 || !fix_bonds->bond_arrays_current()) return 0;
+  int n = 0;
+  for (int i = 0; i < nlocal; i++) {
+    const int itype = atom->type[i];
+    if (!inelastic[itype] || fix_bonds->singular[i] || fix_bonds->lost_bonds(i)) continue;
+    const Mat3 F = NOSPD::load(fix_bonds->defgrad[i]);
+    NOSPD::MaterialEnv env;
+    env.dt = update->whichflag == 2 ? 0.0 : update->dt;
+    env.T = temperature_base[i];
+    env.rho = atom->rmass[i];
+    NOSPD::Tangent9 D;
+    if (materials[itype]->wants_point_data() ||
+        !materials[itype]->tangent(F, fix_bonds->history[i], env, D))
+      continue;
+    lin.resize(static_cast<size_t>(LIN_RECORD) * (n + 1));
+    double *r = &lin[static_cast<size_t>(LIN_RECORD) * n];
+    for (int k = 0; k < 9; k++) {
+      r[k] = F(k / 3, k % 3);
+      r[9 + k] = fix_bonds->pk1[i][k];
+    }
+    Eigen::Map<NOSPD::Tangent9>(r + 18) = D;
+    lin_row[i] = n++;
+  }
+  linearized = n > 0;
+  return n;
 }

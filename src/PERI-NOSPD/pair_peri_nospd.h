@@ -13,6 +13,8 @@ PairStyle(peri/nospd,PairPeriNospd);
 
 #include "pair_peri_nospd_base.h"
 
+#include <vector>
+
 namespace LAMMPS_NS {
 
 /* Classical correspondence peridynamics (Silling et al. 2007):
@@ -25,6 +27,8 @@ class PairPeriNospd : public PairPeriNospdBase {
  public:
   PairPeriNospd(class LAMMPS *);
   void compute(int, int) override;
+  int begin_linearization() override;
+  void end_linearization() override { linearized = false; }
 
  protected:
   int family_kind() const override { return 1; }
@@ -33,6 +37,12 @@ class PairPeriNospd : public PairPeriNospdBase {
   void point_stress(int i, NOSPD::Mat3 &F, NOSPD::Mat3 &P, double &W, const NOSPD::PointEnv &env);
   void carried_stress(int i, NOSPD::Mat3 &F, NOSPD::Mat3 &P, double &W, const NOSPD::PointEnv &env);
   void quadratic_pass();
+  // the linearized laws (begin_linearization): per owned atom its row in
+  // lin (-1: the law itself), each row F0 (9), P0 (9), D (81)
+  bool linearized = false;
+  std::vector<int> lin_row;
+  std::vector<double> lin;
+  static constexpr int LIN_RECORD = 99;
   void quadratic_spring(int i, const NOSPD::Mat3 &H, NOSPD::Mat3 &H2, double &e2, bool energy);
 };
 

@@ -104,6 +104,14 @@ class PairPeriNospdBase : public Pair {
   // why the forces are no energy's gradient ("" if they are one): the
   // Newton minimizer picks its Krylov solver by it
   std::string potential_cause() const { return not_a_potential(); }
+  // the Newton minimizer's probes: until end_linearization, every owned
+  // point whose law offers a consistent tangent (nospd_material.h) takes
+  // P0 + D : (F - F0) about the last force evaluation instead of its law,
+  // so that a directional difference sees that tangent exactly (no return
+  // mapping switching across the yield surface within a probe).  Returns
+  // the number of such points on this rank (0: the style has none)
+  virtual int begin_linearization() { return 0; }
+  virtual void end_linearization() {}
 
  protected:
   FixNospdBonds *fix_bonds;

@@ -20,6 +20,8 @@ for nr in $NR1 $NR2; do
       $(grep "Iterations, force evaluations" "cyl$nr.log" | awk '{printf "%s/%s ", $5, $6}')
     n=$(grep -c "Stopping criterion = force tolerance" "cyl$nr.log") || true
     [ "$n" = 7 ] || { echo "FAIL: $n of 7 load steps reached the force tolerance"; exit 1; }
+    most=$(grep "Iterations, force evaluations" "cyl$nr.log" | awk '$5 > m {m = $5} END {print m}')
+    [ "$most" -le 10 ] || { echo "FAIL: a load step took $most Newton steps (at most 10)"; exit 1; }
   fi
 done
 /usr/bin/python3 "$HERE/cylinder.py" converge "$NR1" "cyl$NR1.dump" "$NR2" "cyl$NR2.dump" --tol 0.03

@@ -9,6 +9,8 @@
 
 #include "atom.h"
 #include "group.h"
+#include "input.h"
+#include "variable.h"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -144,6 +146,47 @@ TEST_F(Newton, ConvergesQuadraticallyAtFiniteStrain)
   EXPECT_GE(quadratic, 1) << ::testing::PrintToString(r);
   std::printf("residuals |V f|: %s\n", ::testing::PrintToString(r).c_str());
   EXPECT_LT(r.back(), 1e-9 * r[0]) << ::testing::PrintToString(r);
+}
+
+TEST_F(Newton, PlasticLoadStepConvergesQuadraticallyWithTheLawsTangent)
+{
+  // J2, perfectly plastic, small strain, 3D: the probes take the
+  // return mapping's consistent tangent (a directional difference of the
+  // return itself switches branches at the yield surface: linear rates)
+  Block b;
+  b.dim = 3;
+  b.n = 6;
+  b.settings = "strain small";
+  make_block(lmp, b);
+  cmd(lmp, "pair_coeff * * 200e9 0.3 " + num(b.delta()) + " yield 250e6");
+  cmd(lmp, "region left block INF " + num(0.5 * b.dx) + " INF INF INF INF units box");
+  cmd(lmp, "region right block " + num((b.n - 1.5) * b.dx) + " INF INF INF INF INF units box");
+  cmd(lmp, "group left region left");
+  cmd(lmp, "group right region right");
+  cmd(lmp, "fix hold left setforce 0.0 0.0 0.0");
+  cmd(lmp, "fix pull right addforce 4e11 1e11 0.0");    // beyond yield
+  cmd(lmp, "fix_modify pull energy yes");
+  cmd(lmp, "compute p all nospd/atom eqps");
+  cmd(lmp, "min_style nospd/newton");
+  cmd(lmp, "min_modify forcing 1e-12 1e-12");
+  const std::string log = log_of(lmp, {"minimize 0 0 30 100000"});
+  EXPECT_THAT(log, HasSubstr("law tangent at " + std::to_string(lmp->atom->natoms) + " points"));
+  const auto r = residuals(log);
+  ASSERT_GE(r.size(), 3u);
+  std::printf("residuals |V f|: %s\n", ::testing::PrintToString(r).c_str());
+  int quadratic = 0;
+  for (size_t k = 0; k + 2 < r.size(); k++) {
+    if (r[k + 2] < 1e-12 * r[0]) break;    // near the rounding floor
+    const double p = std::log(r[k + 2] / r[k + 1]) / std::log(r[k + 1] / r[k]);
+    if (r[k + 1] < 0.5 * r[k] && p > 1.8) quadratic++;
+  }
+  EXPECT_GE(quadratic, 1) << ::testing::PrintToString(r);
+  EXPECT_LE(r.size(), 8u) << ::testing::PrintToString(r);
+  // and it did flow
+  cmd(lmp, "compute pmax all reduce max c_p[1]");
+  cmd(lmp, "variable pmax equal c_pmax");
+  cmd(lmp, "run 0");
+  EXPECT_GT(lmp->input->variable->compute_equal("v_pmax"), 1e-4);
 }
 
 TEST_F(Newton, HourglassStabilizationConvergesWithGmres)
