@@ -125,6 +125,11 @@ int MinNospdNewton::modify_param(int narg, char **arg)
     else error->all(FLERR, "min_modify precondition: expected surrogate or jacobi, not {}", v);
     return 2;
   }
+  if (key == "tangent_check") {
+    need(1);
+    tangent_check = utils::logical(FLERR, arg[1], false, lmp) == 1;
+    return 2;
+  }
   if (key == "fd_step") {
     need(1);
     fd_step = real_in("fd_step", arg[1], 0.0, 1.0e300);
@@ -572,6 +577,38 @@ int MinNospdNewton::line_search(double rnorm, double &alpha)
   return 1;
 }
 
+/* ----------------------------------------------------------------------
+   min_modify tangent_check: the operator the Krylov solves apply (laws'
+   tangents where offered) against central differences of the forces
+   themselves along a fixed random direction; relative difference
+------------------------------------------------------------------------- */
+
+double MinNospdNewton::check_tangent()
+{
+  const tagint *tag = atom->tag;
+  std::vector<double> v(nvec), lin(nvec), plus(nvec);
+  for (int i = 0; i < nvec; i++) v[i] = mask[i] * hashed(tag[i / 3], i % 3);
+  auto *pair = PairPeriNospdBase::find(force);
+  if (pair) pair->begin_linearization();
+  const double h = probe(v.data(), lin.data());
+  if (pair) pair->end_linearization();
+  // central: r0 - r(x0 + h v) and r0 - r(x0 - h v), each over h
+  probe(v.data(), plus.data());
+  for (int i = 0; i < nvec; i++) v[i] = -v[i];
+  std::vector<double> minus(nvec);
+  probe(v.data(), minus.data());
+  double d[2] = {0.0, 0.0}, all[2];
+  for (int i = 0; i < nvec; i++) {
+    const double central = 0.5 * (plus[i] - minus[i]);
+    d[0] += (lin[i] - central) * (lin[i] - central);
+    d[1] += central * central;
+  }
+  MPI_Allreduce(d, all, 2, MPI_DOUBLE, MPI_SUM, world);
+  force_no_reneighbor();    // the state of x0 again, for the linearization
+  (void) h;
+  return all[1] > 0.0 ? std::sqrt(all[0] / all[1]) : 0.0;
+}
+
 /* ---------------------------------------------------------------------- */
 
 NOSPD::KrylovResult MinNospdNewton::solve(double eta)
@@ -683,6 +720,11 @@ int MinNospdNewton::iterate(int maxiter)
     rprev = rnorm;
     if (precond == Precondition::SURROGATE) prepare_surrogate();
     if (precond == Precondition::JACOBI || !surrogate_factored) build_preconditioner();
+    if (tangent_check) {
+      const double rel = check_tangent();
+      if (comm->me == 0)
+        utils::logmesg(lmp, "  nospd/newton {}: tangent check {:.3g}\n", niter, rel);
+    }
     newton_steps++;
     if (newton_step(rnorm, eta)) return ZEROALPHA;
     if (neval >= update->max_eval) return MAXEVAL;

@@ -54,6 +54,7 @@ class MinNospdNewton : public Min {
   double eta_min = 1.0e-8;
   double fd_step = 0.0;       // directional difference step (length); 0: automatic
   double delta = 0.0;         // the step in use for this minimize
+  bool tangent_check = false;    // log the operator against central differences
 
   double *x0 = nullptr;    // positions at the start of the step (fix_minimize)
   double *du = nullptr;    // Newton correction (fix_minimize)
@@ -80,6 +81,7 @@ class MinNospdNewton : public Min {
   void precondition(const double *r, double *z);
   int line_search(double rnorm, double &alpha);
   NOSPD::KrylovResult solve(double eta);
+  double check_tangent();
   int newton_step(double rnorm, double eta);
   double step_cap() const;
 };

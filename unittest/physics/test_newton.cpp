@@ -189,6 +189,75 @@ TEST_F(Newton, PlasticLoadStepConvergesQuadraticallyWithTheLawsTangent)
   EXPECT_GT(lmp->input->variable->compute_equal("v_pmax"), 1e-4);
 }
 
+// the operator the Krylov solves apply against central differences of the
+// forces (min_modify tangent_check), on a block pulled past yield, every
+// Newton step of the load step (its first starts at rest)
+TEST_F(Newton, TangentMatchesCentralDifferences)
+{
+  struct Case {
+    int dim;
+    std::string style, settings, coeff;
+    double tol = 1e-6;
+  };
+  const std::vector<Case> cases = {
+      {3, "peri/nospd", "strain small", "yield 250e6 hardening linear 2e9"},
+      {3, "peri/nospd", "strain hencky", "yield 250e6"},
+      {3, "peri/nospd", "strain small", "drucker_prager 30 10 2e8 1e9"},
+      {3, "peri/nospd", "strain hencky", "johnson_cook 9e7 2.9e8 0.31 0.025 1 1.09 298 1356"},
+      {3, "peri/nospd", "strain small stabilization hourglass 0.2", "yield 250e6"},
+      {3, "peri/nospd", "strain neohookean stabilization wan", ""},
+      {2, "peri/nospd", "strain small plane strain", "yield 250e6"},
+      {2, "peri/nospd", "strain svk plane stress", ""},
+      // the bond-associated style's probes take no law tangent yet: a forward
+      // difference across its bonds' yield surfaces, 5e-6 measured
+      {3, "peri/nospd/hs", "form II strain small", "yield 250e6", 2e-5},
+      {2, "peri/nospd/hs", "form I strain finite plane strain", ""}};
+  for (const Case &c : cases) {
+    delete lmp;
+    lmp = open_lammps();
+    Block b;
+    b.dim = c.dim;
+    b.n = 6;
+    b.style = c.style;
+    b.settings = c.settings;
+    make_block(lmp, b);
+    cmd(lmp, "pair_coeff * * 200e9 0.3 " + num(b.delta()) + " " + c.coeff);
+    cmd(lmp, "region left block INF " + num(0.5 * b.dx) + " INF INF INF INF units box");
+    cmd(lmp, "region right block " + num((b.n - 1.5) * b.dx) + " INF INF INF INF INF units box");
+    cmd(lmp, "group left region left");
+    cmd(lmp, "group right region right");
+    cmd(lmp, "fix hold left setforce 0.0 0.0 0.0");
+    const double load = 2.2e11;    // 220 MPa: plastic near the held edge, below collapse
+    cmd(lmp, "fix pull right addforce " + num(load) + " " + num(0.25 * load) + " 0.0");
+    cmd(lmp, "fix_modify pull energy yes");
+    cmd(lmp, "min_style nospd/newton");
+    cmd(lmp, "min_modify tangent_check yes");
+    const bool plastic = !c.coeff.empty();
+    if (plastic) {
+      cmd(lmp, "compute p all nospd/atom eqps");
+      cmd(lmp, "compute pm all reduce max c_p[1]");
+      cmd(lmp, "variable pm equal c_pm");
+    }
+    const std::string log = log_of(lmp, {"minimize 0 0 4 100000"});
+    if (plastic) {    // the load step did flow
+      cmd(lmp, "run 0");
+      EXPECT_GT(lmp->input->variable->compute_equal("v_pm"), 1e-6) << c.coeff;
+    }
+    const std::regex line(R"(tangent check ([0-9.eE+-]+))");
+    int n = 0;
+    for (std::sregex_iterator it(log.begin(), log.end(), line), end; it != end; ++it, ++n)
+      EXPECT_LT(std::stod((*it)[1]), c.tol) << c.style << " " << c.settings << " " << c.coeff
+                                          << " step " << n + 1;
+    EXPECT_GE(n, 2) << c.style << " " << c.settings;
+    std::smatch m;
+    std::string worst;
+    for (std::sregex_iterator it(log.begin(), log.end(), line), end; it != end; ++it)
+      worst += (*it)[1].str() + " ";
+    std::printf("%s | %s | %s: %s\n", c.style.c_str(), c.settings.c_str(), c.coeff.c_str(),
+                worst.c_str());
+  }
+}
+
 TEST_F(Newton, HourglassStabilizationConvergesWithGmres)
 {
   plate(11, "strain small stabilization hourglass 0.2", 2e12);
