@@ -2,7 +2,8 @@
 # min_style nospd/newton against LAMMPS's cg and fire, each to a force
 # residual of 1e-8 of the applied load (bench/README.md, "Quasi-static
 # solvers"): the plate with a hole at the chart's finest resolution (101
-# across; default and hourglass stabilization) and the J2 thick cylinder
+# across; default and hourglass stabilization), a notched plate, and the J2
+# thick cylinder
 # at 40 rings (7 load steps; FIRE at 20).  Writes results/newton.csv.
 # usage: bash bench/newton/run.sh LMP [plate n=101] [cylinder rings=40]
 set -euo pipefail
@@ -25,14 +26,18 @@ summarize() { # scene solver log ftol
 }
 # plate: applied load norm = S/dx sqrt(2 n) (two rows of n points)
 ftol=$(/usr/bin/python3 -c "print('%.4g' % (1e-8 * 10e6 / (0.05 / $N) * (2 * $N) ** 0.5))")
-# from the chart's start (the far field's uniform strain) and from rest
-for st in "default|peri/nospd|chart" "hourglass|peri/nospd stabilization hourglass 0.2|chart" \
-          "default_rest|peri/nospd|rest" "hourglass_rest|peri/nospd stabilization hourglass 0.2|rest"; do
-  IFS='|' read -r name pstyle start <<< "$st"
+# from the chart's start (the far field's uniform strain) and from rest;
+# the notched plate (an edge slit to the middle) from rest
+for st in "default|peri/nospd|chart|hole" "hourglass|peri/nospd stabilization hourglass 0.2|chart|hole" \
+          "default_rest|peri/nospd|rest|hole" \
+          "hourglass_rest|peri/nospd stabilization hourglass 0.2|rest|hole" \
+          "notch_default|peri/nospd|rest|notch" \
+          "notch_hourglass|peri/nospd stabilization hourglass 0.2|rest|notch"; do
+  IFS='|' read -r name pstyle start shape <<< "$st"
   for solver in newton cg fire; do
-    [[ "$name" = hourglass* ]] && [ "$solver" = cg ] && continue    # not a potential
+    [[ "$name" = *hourglass* ]] && [ "$solver" = cg ] && continue    # not a potential
     "$LMP" -in "$HERE/in.plate" -var n "$N" -var pstyle "$pstyle" -var solver $solver \
-      -var ftol "$ftol" -var maxiter 200000 -var start $start \
+      -var ftol "$ftol" -var maxiter 200000 -var start $start -var shape $shape \
       -log "$WORK/plate_${name}_$solver.log" -screen none
     summarize "plate_${N}_$name" $solver "$WORK/plate_${name}_$solver.log" "$ftol"
   done

@@ -40,7 +40,8 @@ of the literal blocks in that section (``.. code-block::``,
     with the default pair style (peri/nospd, material steel of
     potentials/materials.nospd, spacing 10 mm, horizon 30.1 mm: a 0.1 m
     block), after the earlier lines of the page that it refers to (c_ID,
-    f_ID, v_NAME, ${NAME}, X_modify ID, a group ID).  A group the line names
+    f_ID, v_NAME, ${NAME}, X_modify ID, a group ID; a min_modify line the
+    page's min_style line).  A group the line names
     (its group-ID argument, or the word after a "group" keyword) that no
     earlier line defines is created holding all atoms.  Equal-style
     variables are evaluated.
@@ -332,8 +333,12 @@ def references(line):
     w = line.split()
     if w[0].endswith("_modify") and len(w) > 1 and w[0] not in ("atom_modify", "neigh_modify",
                                                                  "comm_modify", "thermo_modify",
-                                                                 "pair_modify", "box_modify"):
+                                                                 "pair_modify", "box_modify",
+                                                                 "min_modify"):
         refs.append((w[0][:-len("_modify")], w[1]))
+    # a min style's own min_modify keywords need that style set first
+    if w[0] == "min_modify":
+        refs.append(("min_style", ""))
     if w[0] in ("compute", "fix", "dump") and len(w) > 2:
         refs.append(("group", w[2]))
     for k in range(3, len(w) - 1):
@@ -354,6 +359,8 @@ def definition(line):
     w = line.split()
     if w[0] in ("compute", "fix", "dump", "variable", "group", "region") and len(w) > 1:
         return (w[0], w[1])
+    if w[0] == "min_style":
+        return ("min_style", "")
     return None
 
 
