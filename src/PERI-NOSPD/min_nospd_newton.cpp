@@ -282,6 +282,48 @@ void MinNospdNewton::find_free_dofs()
     fvec[i] = f0[i];
   }
   mask.assign(m, m + nvec);
+  // a force that does not move with the positions and is not zero (a
+  // loaded point without partners, a fix setting a nonzero force): no
+  // equilibrium exists
+  double worst = 0.0, most = 0.0;
+  for (int i = 0; i < nvec; i++)
+    if (m[i] == 0.0 && i % 3 < dim) worst = std::max(worst, std::fabs(fvec[i]));
+  MPI_Allreduce(&worst, &most, 1, MPI_DOUBLE, MPI_MAX, world);
+  if (!(most > 0.0)) return;
+  bigint who = -1, first = -1;
+  for (int i = 0; i < nvec && who < 0; i++)
+    if (m[i] == 0.0 && i % 3 < dim && std::fabs(fvec[i]) == most) who = tag[i / 3];
+  if (who < 0) who = MAXBIGINT;
+  MPI_Allreduce(&who, &first, 1, MPI_LMP_BIGINT, MPI_MIN, world);
+  error->all(FLERR, "{}: atom {} carries a force ({:.6g}) that no stiffness resists (a point "
+             "without partners under a load, a fix setting a nonzero force, or a load so large "
+             "that the stiffness is lost in its rounding): the force balance has no solution; "
+             "remove the load or hold the point", CMD, first, most);
+}
+
+/* ----------------------------------------------------------------------
+   what would make the solve meaningless: non-finite forces, a probe step
+   below the positions' rounding or beyond a derivative's reach, dmax <= 0
+------------------------------------------------------------------------- */
+
+void MinNospdNewton::check_settings()
+{
+  double big = 0.0, all = 0.0;
+  for (int i = 0; i < nvec; i++)
+    if (!std::isfinite(fvec[i])) big = 1.0;
+  MPI_Allreduce(&big, &all, 1, MPI_DOUBLE, MPI_MAX, world);
+  if (all > 0.0)
+    error->all(FLERR, "{}: the forces at the start are not finite (inf or nan): check the "
+               "loads (fix addforce values) and the positions", CMD);
+  const double L = std::max(domain->prd[0], std::max(domain->prd[1], domain->prd[2]));
+  if (fd_step > 0.0 && (fd_step < 1.0e-12 * L || fd_step > 1.0e-4 * L))
+    error->all(FLERR, "{}: min_modify fd_step {:.6g} is outside [{:.3g}, {:.3g}] (1e-12 to "
+               "1e-4 of the largest box length): below it the positions' rounding swamps the "
+               "difference, above it the difference is no derivative; 0 picks 1.5e-8 of it",
+               CMD, fd_step, 1.0e-12 * L, 1.0e-4 * L);
+  if (!(dmax > 0.0))
+    error->all(FLERR, "{}: min_modify dmax {} must be positive (it caps each Newton step)",
+               CMD, dmax);
 }
 
 /* ----------------------------------------------------------------------
@@ -356,9 +398,9 @@ void MinNospdNewton::check_singular()
                            modes[a] >= 3 ? "rotation about" : "translation along",
                            axis[modes[a] % 3]);
   error->all(FLERR, "{}: the tangent is singular: nothing holds the body against a rigid "
-             "motion ({}; its stiffness is {:.2g} of a random direction's); hold points "
-             "with fix setforce 0.0 0.0 0.0, a fix spring or a wall, or use min_style fire",
-             CMD, which, s);
+             "motion combining {} (or only a stiffness {:.2g} of a random direction's, below "
+             "{:g}); hold points with fix setforce 0.0 0.0 0.0, a stiffer fix spring or a "
+             "wall, or use min_style fire", CMD, which, s, SINGULAR_RATIO);
 }
 
 /* ----------------------------------------------------------------------
@@ -680,9 +722,12 @@ int MinNospdNewton::iterate(int maxiter)
   newton_steps = krylov_total = last_krylov = 0;
   residual_history.clear();
   for (int i = 0; i < nvec; i++) x0[i] = xvec[i];
+  fix_minimize->store_box();
+  check_settings();
   find_free_dofs();
   check_singular();
   force_no_reneighbor();    // the state of x, not of the last probe
+  if (neval >= update->max_eval) return MAXEVAL;
 
   auto fnorm_below = [&]() {
     if (!(update->ftol > 0.0)) return false;
@@ -698,6 +743,7 @@ int MinNospdNewton::iterate(int maxiter)
     niter++;
     eprevious = ecurrent;
     for (int i = 0; i < nvec; i++) x0[i] = xvec[i];
+    fix_minimize->store_box();    // x0's box, for reset_coords after a rebuild
     residual(r0);
     const double rnorm = std::sqrt(global_dot(r0.data(), r0.data()));
     residual_history.push_back(rnorm);

@@ -75,6 +75,7 @@ class MinNospdNewton : public Min {
   void force_no_reneighbor();
   void residual(std::vector<double> &r);
   double global_dot(const double *a, const double *b) const;
+  void check_settings();
   void find_free_dofs();
   void check_singular();
   void build_preconditioner();

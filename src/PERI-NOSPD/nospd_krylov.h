@@ -99,6 +99,11 @@ KrylovResult gmres(int n, const double *b, double *x, Op &&A, Prec &&M, Dot &&do
       g[k + 1] = -sn[k] * g[k];
       g[k] = cs[k] * g[k];
       res.residual = std::fabs(g[k + 1]);
+      if (!std::isfinite(hn) || !std::isfinite(r)) {    // a non-finite operator: give up now
+        res.residual = std::nan("");
+        res.iterations = maxit;
+        break;
+      }
       if (res.residual <= target || hn == 0.0) {
         k++;
         break;
@@ -114,7 +119,7 @@ KrylovResult gmres(int n, const double *b, double *x, Op &&A, Prec &&M, Dot &&do
       const double *zj = Z.data() + static_cast<size_t>(j) * n;
       for (int i = 0; i < n; i++) x[i] += y[j] * zj[i];
     }
-    if (res.residual <= target) break;
+    if (res.residual <= target || !std::isfinite(res.residual)) break;
   }
   res.converged = res.residual <= target;
   return res;

@@ -1,7 +1,8 @@
 /* The Newton minimizer's linear algebra (nospd_krylov.h,
    nospd_surrogate.h): GMRES and CG solve against a dense direct solve, also
    restarted and preconditioned; GMRES's reported residual is the true one;
-   CG flags an indefinite operator.  The bond-based surrogate is symmetric,
+   CG flags an indefinite operator; a non-finite operator stops both at
+   once.  The bond-based surrogate is symmetric,
    positive definite with its held rows decoupled, exerts no force on
    interior points under an affine displacement (a patch test), and its
    direct factor inverts it. */
@@ -219,4 +220,25 @@ TEST(Surrogate, AffineDisplacementLeavesInteriorPointsUnloaded)
     }
   EXPECT_GT(edge, 0.0);
   EXPECT_LT(interior, 1e-12 * edge);
+}
+
+TEST(Krylov, NonFiniteOperatorStopsAtOnce)
+{
+  const int n = 8;
+  int applications = 0;
+  auto nan_op = [&](const double *, double *out) {
+    applications++;
+    for (int i = 0; i < n; i++) out[i] = std::nan("");
+  };
+  auto none = [&](const double *r, double *z) {
+    for (int i = 0; i < n; i++) z[i] = r[i];
+  };
+  std::vector<double> b(n, 1.0), x(n);
+  const auto g = NOSPD::gmres(n, b.data(), x.data(), nan_op, none, dot(n), 1e-8, 20, 1000);
+  EXPECT_FALSE(g.converged);
+  EXPECT_LE(applications, 2);
+  applications = 0;
+  const auto c = NOSPD::cg(n, b.data(), x.data(), nan_op, none, dot(n), 1e-8, 1000);
+  EXPECT_FALSE(c.converged);
+  EXPECT_LE(applications, 2);
 }

@@ -305,6 +305,47 @@ TEST_F(Newton, BadModifyValuesAreErrors)
   EXPECT_THAT(error_of(lmp, "min_modify forcing 0.1"), HasSubstr("expected 2 value"));
 }
 
+TEST_F(Newton, UnsolvableSettingsAreClearErrors)
+{
+  plate(9, "strain small", 1e12);
+  cmd(lmp, "min_style nospd/newton");
+  cmd(lmp, "min_modify fd_step 1e-30");
+  EXPECT_THAT(error_of(lmp, "minimize 0 1e-6 50 1000"), HasSubstr("fd_step 1e-30 is outside"));
+  cmd(lmp, "min_modify fd_step 0 dmax 0");
+  EXPECT_THAT(error_of(lmp, "minimize 0 1e-6 50 1000"), HasSubstr("dmax 0 must be positive"));
+  cmd(lmp, "min_modify dmax 0.1");
+  // loaded points that nothing holds (no pair stiffness): no equilibrium exists
+  cmd(lmp, "pair_style zero " + num(4e-3));
+  cmd(lmp, "pair_coeff * *");
+  const std::string err = error_of(lmp, "minimize 0 1e-6 50 1000");
+  EXPECT_THAT(err, HasSubstr("carries a force (1e+12) that no stiffness resists"));
+}
+
+TEST_F(Newton, PeriodicBoxRebuildsAcrossTheBoundary)
+{
+  // neighbor lists rebuilt during the line search in a periodic box: x0 is
+  // re-imaged against the box it was stored with (fix MINIMIZE's store_box)
+  Block b;
+  b.dim = 2;
+  b.n = 10;
+  b.settings = "strain small plane stress";
+  b.periodic = true;
+  make_block(lmp, b);
+  cmd(lmp, "neighbor 1e-6 bin");
+  cmd(lmp, "region low block INF INF INF " + num(0.5 * b.dx) + " INF INF units box");
+  cmd(lmp, "region high block INF INF " + num(4.5 * b.dx) + " " + num(5.5 * b.dx) +
+               " INF INF units box");
+  cmd(lmp, "group low region low");
+  cmd(lmp, "group high region high");
+  cmd(lmp, "fix hold low setforce 0.0 0.0 0.0");
+  cmd(lmp, "fix pull high addforce 0.0 1e11 0.0");
+  cmd(lmp, "fix_modify pull energy yes");
+  cmd(lmp, "min_style nospd/newton");
+  const std::string log = log_of(lmp, {"minimize 0 1e-2 50 100000"});
+  EXPECT_THAT(log, HasSubstr("force tolerance"));
+  EXPECT_THAT(log, ::testing::Not(HasSubstr("ERROR")));
+}
+
 TEST_F(Newton, JacobiPreconditionerReachesTheSameEquilibrium)
 {
   plate(11, "strain small", 2e12);
