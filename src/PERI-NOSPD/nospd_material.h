@@ -17,6 +17,8 @@
 #include "nospd_constitutive.h"
 #include "nospd_drucker_prager.h"
 #include "nospd_plastic_tangent.h"
+
+#include <vector>
 #include "nospd_plasticity.h"
 #include "nospd_umat.h"
 
@@ -171,6 +173,31 @@ class UmatPointMaterial : public Material {
     const UmatStatus st = umat_point(u, pt, F, hn, h1, P, W);
     if (st == UmatStatus::OK) return {};
     return {PointStatus::UMAT, static_cast<int>(st)};
+  }
+  // small strain: P = sigma(eps), eps = sym(F) - I, so dP/dF is DDSDDE on
+  // the Voigt pairs (its engineering shear strains count each of e_kl and
+  // e_lk once); none where the UMAT leaves DDSDDE's diagonal zero (it wrote
+  // none) or for umat/finite
+  bool tangent(const Mat3 &F, const double *hn, const MaterialEnv &env, Tangent9 &D) const override
+  {
+    if (u.finite || !env.umat) return false;
+    UmatPoint pt = *env.umat;
+    pt.npt += env.point;
+    std::vector<double> h1(history_size());
+    double dd[36] = {}, W = 0.0;
+    Mat3 P;
+    if (umat_point(u, pt, F, hn, h1.data(), P, W, dd) != UmatStatus::OK) return false;
+    const int nt = u.ntens;
+    static const int voigt[3][3] = {{0, 3, 4}, {3, 1, 5}, {4, 5, 2}};
+    for (int k = 0; k < 3; k++)
+      if (!(dd[k + k * nt] != 0.0)) return false;
+    D.setZero();
+    for (int a = 0; a < 9; a++)
+      for (int c = 0; c < 9; c++) {
+        const int I = voigt[a / 3][a % 3], J = voigt[c / 3][c % 3];
+        if (I < nt && J < nt) D(a, c) = dd[I + J * nt];
+      }
+    return true;
   }
 
  private:

@@ -168,9 +168,11 @@ inline bool log_stretch(const Mat3 &F, Mat3 &lnV, Mat3 &R)
 }
 
 /* One UMAT increment: from the accepted history hn (with F_n inside) to F.
-   Writes the new history h1, P and W (= SSE, energy per unit volume). */
+   Writes the new history h1, P and W (= SSE, energy per unit volume), and
+   the UMAT's DDSDDE (ntens x ntens, column-major) where asked. */
 inline UmatStatus umat_point(const UmatMaterial &m, const UmatPoint &pt, const Mat3 &F,
-                             const double *hn, double *h1, Mat3 &P, double &W)
+                             const double *hn, double *h1, Mat3 &P, double &W,
+                             double *ddsdde_out = nullptr)
 {
   using namespace UmatHist;
   const Mat3 I = Mat3::Identity();
@@ -229,6 +231,8 @@ inline UmatStatus umat_point(const UmatMaterial &m, const UmatPoint &pt, const M
   for (int k = 0; k < nt; k++) finite_out = finite_out && std::isfinite(stress[k]);
   for (int k = 0; k < m.nstatev; k++) finite_out = finite_out && std::isfinite(statev[k]);
   if (!finite_out) return UmatStatus::NONFINITE;
+  if (ddsdde_out)
+    for (int k = 0; k < 36; k++) ddsdde_out[k] = ddsdde[k];
 
   const Mat3 sigma = from_voigt(stress, nt);
   P = m.finite ? Mat3(F.determinant() * sigma * F.inverse().transpose()) : sigma;

@@ -287,10 +287,13 @@ int PairPeriNospd::begin_linearization()
     env.dt = update->whichflag == 2 ? 0.0 : update->dt;
     env.T = temperature_base[i];
     env.rho = atom->rmass[i];
+    NOSPD::UmatPoint pt;
+    if (materials[itype]->wants_point_data()) {
+      pt = umat_env(i);
+      env.umat = &pt;
+    }
     NOSPD::Tangent9 D;
-    if (materials[itype]->wants_point_data() ||
-        !materials[itype]->tangent(F, fix_bonds->history[i], env, D))
-      continue;
+    if (!materials[itype]->tangent(F, fix_bonds->history[i], env, D)) continue;
     lin.resize(static_cast<size_t>(LIN_RECORD) * (n + 1));
     double *r = &lin[static_cast<size_t>(LIN_RECORD) * n];
     for (int k = 0; k < 9; k++) {

@@ -23,6 +23,8 @@ using LAMMPS_NS::LAMMPS;
 using ::testing::HasSubstr;
 
 namespace {
+std::string umat_lib(const char *name) { return std::string(NOSPD_UMAT_DIR) + "/" + name; }
+
 class Newton : public ::testing::Test {
  protected:
   LAMMPS *lmp = nullptr;
@@ -211,7 +213,14 @@ TEST_F(Newton, TangentMatchesCentralDifferences)
       // the bond-associated style's probes take no law tangent yet: a forward
       // difference across its bonds' yield surfaces, 5e-6 measured
       {3, "peri/nospd/hs", "form II strain small", "yield 250e6", 2e-5},
-      {2, "peri/nospd/hs", "form I strain finite plane strain", ""}};
+      {2, "peri/nospd/hs", "form I strain finite plane strain", ""},
+      // a UMAT's DDSDDE where it writes one (umat_elastic), differences
+      // where it leaves it zero (umat_j2)
+      {3, "peri/nospd", "strain umat", "umat " + umat_lib("umat_elastic.so") + " props 2 200e9 0.3"},
+      {2, "peri/nospd", "strain umat plane strain",
+       "umat " + umat_lib("umat_elastic.so") + " props 2 200e9 0.3"},
+      {3, "peri/nospd", "strain umat",
+       "umat " + umat_lib("umat_j2.so") + " props 4 200e9 0.3 250e6 2e9 statev 7"}};
   for (const Case &c : cases) {
     delete lmp;
     lmp = open_lammps();
@@ -232,7 +241,8 @@ TEST_F(Newton, TangentMatchesCentralDifferences)
     cmd(lmp, "fix_modify pull energy yes");
     cmd(lmp, "min_style nospd/newton");
     cmd(lmp, "min_modify tangent_check yes");
-    const bool plastic = !c.coeff.empty();
+    // the built-in flow laws report eqps (a UMAT's plastic strain is its own STATEV)
+    const bool plastic = !c.coeff.empty() && c.coeff.find("umat") == std::string::npos;
     if (plastic) {
       cmd(lmp, "compute p all nospd/atom eqps");
       cmd(lmp, "compute pm all reduce max c_p[1]");
