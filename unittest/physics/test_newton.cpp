@@ -63,6 +63,40 @@ class Newton : public ::testing::Test {
     c->compute_peratom();
     return by_tag(lmp, c->array_atom);
   }
+  // a block of 6 points a side held on its left face and pulled on its
+  // right one by the force density (fx, fy); pair_coeff extras in coeff
+  Block pulled_block(int dim, const std::string &style, const std::string &settings,
+                     const std::string &coeff, double fx, double fy)
+  {
+    Block b;
+    b.dim = dim;
+    b.n = 6;
+    b.style = style;
+    b.settings = settings;
+    make_block(lmp, b);
+    if (!coeff.empty()) cmd(lmp, "pair_coeff * * 200e9 0.3 " + num(b.delta()) + " " + coeff);
+    cmd(lmp, "region left block INF " + num(0.5 * b.dx) + " INF INF INF INF units box");
+    cmd(lmp, "region right block " + num((b.n - 1.5) * b.dx) + " INF INF INF INF INF units box");
+    cmd(lmp, "group left region left");
+    cmd(lmp, "group right region right");
+    cmd(lmp, "fix hold left setforce 0.0 0.0 0.0");
+    cmd(lmp, "fix pull right addforce " + num(fx) + " " + num(fy) + " 0.0");
+    cmd(lmp, "fix_modify pull energy yes");
+    cmd(lmp, "min_style nospd/newton");
+    return b;
+  }
+  // steps whose residual fell and whose next step at least doubled the
+  // digits gained (order > 1.8), above `floor` of the first residual
+  static int quadratic_steps(const std::vector<double> &r, double floor)
+  {
+    int n = 0;
+    for (size_t k = 0; k + 2 < r.size(); k++) {
+      if (r[k + 2] < floor * r[0]) break;    // near the rounding floor
+      const double p = std::log(r[k + 2] / r[k + 1]) / std::log(r[k + 1] / r[k]);
+      if (r[k + 1] < 0.5 * r[k] && p > 1.8) n++;
+    }
+    return n;
+  }
   // |V f| at the start of each Newton step, from the log
   static std::vector<double> residuals(const std::string &log)
   {
@@ -121,68 +155,29 @@ TEST_F(Newton, SameEquilibriumAsFireAndCgOnAPlateWithAHole)
 
 TEST_F(Newton, ConvergesQuadraticallyAtFiniteStrain)
 {
-  Block b;
-  b.dim = 3;
-  b.n = 6;
-  b.settings = "strain neohookean";
-  make_block(lmp, b);
-  cmd(lmp, "region left block INF " + num(0.5 * b.dx) + " INF INF INF INF units box");
-  cmd(lmp, "region right block " + num((b.n - 1.5) * b.dx) + " INF INF INF INF INF units box");
-  cmd(lmp, "group left region left");
-  cmd(lmp, "group right region right");
-  cmd(lmp, "fix hold left setforce 0.0 0.0 0.0");
-  cmd(lmp, "fix pull right addforce 1.2e13 4e12 0.0");    // about 10 % strain
-  cmd(lmp, "fix_modify pull energy yes");
-  cmd(lmp, "min_style nospd/newton");
+  pulled_block(3, "peri/nospd", "strain neohookean", "", 1.2e13, 4e12);    // about 10 % strain
   cmd(lmp, "min_modify forcing 1e-12 1e-12");
   const auto r = residuals(log_of(lmp, {"minimize 0 0 30 100000"}));
   ASSERT_GE(r.size(), 4u);
-  // the quadratic phase: r_{k+1} / r_k^2 stays bounded while r_k falls by
-  // decades, i.e. each step at least doubles the digits gained
-  int quadratic = 0;
-  for (size_t k = 0; k + 2 < r.size(); k++) {
-    if (r[k + 2] < 1e-9 * r[0]) break;    // near the rounding floor
-    const double p = std::log(r[k + 2] / r[k + 1]) / std::log(r[k + 1] / r[k]);
-    if (r[k + 1] < 0.5 * r[k] && p > 1.8) quadratic++;
-  }
-  EXPECT_GE(quadratic, 1) << ::testing::PrintToString(r);
+  EXPECT_GE(quadratic_steps(r, 1e-9), 1) << ::testing::PrintToString(r);
   std::printf("residuals |V f|: %s\n", ::testing::PrintToString(r).c_str());
   EXPECT_LT(r.back(), 1e-9 * r[0]) << ::testing::PrintToString(r);
 }
 
 TEST_F(Newton, PlasticLoadStepConvergesQuadraticallyWithTheLawsTangent)
 {
-  // J2, perfectly plastic, small strain, 3D: the probes take the
-  // return mapping's consistent tangent (a directional difference of the
-  // return itself switches branches at the yield surface: linear rates)
-  Block b;
-  b.dim = 3;
-  b.n = 6;
-  b.settings = "strain small";
-  make_block(lmp, b);
-  cmd(lmp, "pair_coeff * * 200e9 0.3 " + num(b.delta()) + " yield 250e6");
-  cmd(lmp, "region left block INF " + num(0.5 * b.dx) + " INF INF INF INF units box");
-  cmd(lmp, "region right block " + num((b.n - 1.5) * b.dx) + " INF INF INF INF INF units box");
-  cmd(lmp, "group left region left");
-  cmd(lmp, "group right region right");
-  cmd(lmp, "fix hold left setforce 0.0 0.0 0.0");
-  cmd(lmp, "fix pull right addforce 4e11 1e11 0.0");    // beyond yield
-  cmd(lmp, "fix_modify pull energy yes");
+  // J2, perfectly plastic, small strain, 3D: the probes take the return
+  // mapping's consistent tangent (on this small block a difference of the
+  // return converges quadratically too; the cylinder's is linear there)
+  pulled_block(3, "peri/nospd", "strain small", "yield 250e6", 4e11, 1e11);    // beyond yield
   cmd(lmp, "compute p all nospd/atom eqps");
-  cmd(lmp, "min_style nospd/newton");
   cmd(lmp, "min_modify forcing 1e-12 1e-12");
   const std::string log = log_of(lmp, {"minimize 0 0 30 100000"});
   EXPECT_THAT(log, HasSubstr("law tangent at " + std::to_string(lmp->atom->natoms) + " points"));
   const auto r = residuals(log);
   ASSERT_GE(r.size(), 3u);
   std::printf("residuals |V f|: %s\n", ::testing::PrintToString(r).c_str());
-  int quadratic = 0;
-  for (size_t k = 0; k + 2 < r.size(); k++) {
-    if (r[k + 2] < 1e-12 * r[0]) break;    // near the rounding floor
-    const double p = std::log(r[k + 2] / r[k + 1]) / std::log(r[k + 1] / r[k]);
-    if (r[k + 1] < 0.5 * r[k] && p > 1.8) quadratic++;
-  }
-  EXPECT_GE(quadratic, 1) << ::testing::PrintToString(r);
+  EXPECT_GE(quadratic_steps(r, 1e-12), 1) << ::testing::PrintToString(r);
   EXPECT_LE(r.size(), 8u) << ::testing::PrintToString(r);
   // and it did flow
   cmd(lmp, "compute pmax all reduce max c_p[1]");
@@ -224,22 +219,8 @@ TEST_F(Newton, TangentMatchesCentralDifferences)
   for (const Case &c : cases) {
     delete lmp;
     lmp = open_lammps();
-    Block b;
-    b.dim = c.dim;
-    b.n = 6;
-    b.style = c.style;
-    b.settings = c.settings;
-    make_block(lmp, b);
-    cmd(lmp, "pair_coeff * * 200e9 0.3 " + num(b.delta()) + " " + c.coeff);
-    cmd(lmp, "region left block INF " + num(0.5 * b.dx) + " INF INF INF INF units box");
-    cmd(lmp, "region right block " + num((b.n - 1.5) * b.dx) + " INF INF INF INF INF units box");
-    cmd(lmp, "group left region left");
-    cmd(lmp, "group right region right");
-    cmd(lmp, "fix hold left setforce 0.0 0.0 0.0");
     const double load = 2.2e11;    // 220 MPa: plastic near the held edge, below collapse
-    cmd(lmp, "fix pull right addforce " + num(load) + " " + num(0.25 * load) + " 0.0");
-    cmd(lmp, "fix_modify pull energy yes");
-    cmd(lmp, "min_style nospd/newton");
+    pulled_block(c.dim, c.style, c.settings, c.coeff, load, 0.25 * load);
     cmd(lmp, "min_modify tangent_check yes");
     // the built-in flow laws report eqps (a UMAT's plastic strain is its own STATEV)
     const bool plastic = !c.coeff.empty() && c.coeff.find("umat") == std::string::npos;
