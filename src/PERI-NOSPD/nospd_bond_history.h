@@ -39,6 +39,7 @@
 
 #include "nospd_bond_associated.h"
 #include "nospd_material.h"
+#include "nospd_plastic_tangent.h"
 #include "nospd_plasticity.h"
 #include "nospd_umat.h"
 
@@ -104,9 +105,18 @@ struct FamilyRows {
   double *h1 = nullptr;            // trial row (a copy of hn when the family starts)
   const int *slot_of = nullptr;    // pattern slot -> partner slot
   int bond_offset = 0, bond_stride = 0;
+  // the Newton minimizer's probes (PairPeriNospdHS::begin_linearization):
+  // 9 values per F, the family's first, then the fallback's, then a bond's
+  // per pattern slot.  `record` receives the F the laws see; with `about`
+  // (those of the point linearized about) a bond whose law has a
+  // consistent tangent answers P0 + dP/dF:(F - F0) instead of its law
+  double *record = nullptr;
+  const double *about = nullptr;
 
   // offset of a pattern slot's entry in a row
   int entry(int slot) const { return bond_offset + bond_stride * slot_of[slot]; }
+  // offset of a slot's F (slot -1: the fallback) in record and about
+  static int lin_entry(int slot) { return 9 * (slot + 2); }
   // the weight of the whole family's state: that of the singular bonds
   double fallback_beta() const
   {
@@ -139,8 +149,10 @@ class FamilyPlasticity : public BondLaw, public FamilyRows {
     status = ReturnStatus::OK;
     Ffam = F_family;
     replay = false;
+    if (record) store(F_family, record);
     if (hn[Hist::VALID] > 0.0 && hn[Hist::TACC] == env.T_base) {
-      Mat3 d = F_family - Mat3::Identity() - load(hn + Hist::FPREV);
+      // a probe replays where the point it linearizes about did
+      Mat3 d = (about ? load(about) : F_family) - Mat3::Identity() - load(hn + Hist::FPREV);
       if (plane != Plane::NONE) d(2, 2) = 0.0;
       replay = d.cwiseAbs().maxCoeff() <= 1.0e-12;
     }
@@ -164,6 +176,8 @@ class FamilyPlasticity : public BondLaw, public FamilyRows {
     detail::bond_point_history(bn, fl->Hkin, pn);
     pn[Hist::RATE] = replay ? hn[FamilyHist::RATE_USED] : hn[Hist::RATE];
     pn[Hist::HEAT] = replay ? hn[FamilyHist::HEAT_USED] : hn[Hist::HEAT];
+    if (record) store(F, record + lin_entry(slot));
+    if (about && linearized(slot, pn, F, P, W)) return true;    // a probe: no history
     const ReturnStatus st = bond_return(law, plane, *m, *fl, *th, env, F, pn, p1, P, W);
     if (st != ReturnStatus::OK) {
       status = st;
@@ -209,6 +223,22 @@ class FamilyPlasticity : public BondLaw, public FamilyRows {
   bool replaying() const { return replay; }
 
  private:
+  // P0 + D:(F - F0) of the bond's return at its F0 from pn (none in plane
+  // stress, whose F33 comes from a secant solve)
+  bool linearized(int slot, const double *pn, const Mat3 &F, Mat3 &P, double &W)
+  {
+    if (plane == Plane::STRESS) return false;
+    Mat3 F0 = load(about + lin_entry(slot));
+    Tangent9 D;
+    if (!core_tangent(law, *m, *fl, *th, env, F0, pn, D)) return false;
+    double p1[Hist::SIZE];
+    Mat3 P0;
+    if (bond_return(law, plane, *m, *fl, *th, env, F0, pn, p1, P0, W) != ReturnStatus::OK)
+      return false;
+    P = P0 + linear_step(D, F - F0);
+    return true;
+  }
+
   enum { S_WORK, S_HEAT, S_DAMAGE, S_YIELD, S_EQPS, S_N };
   double sum[S_N] = {};
   double plastic[6] = {};
@@ -253,6 +283,8 @@ class FamilyMaterial : public BondLaw, public FamilyRows {
     const int off = slot < 0 ? fallback() : entry(slot);
     MaterialEnv e = env;
     e.point = slot < 0 ? 0 : slot + 1;
+    if (record) store(F, record + lin_entry(slot));
+    if (about && linearized(slot, off, e, F, P, W)) return true;    // a probe: no history
     status = mat->stress(F, hn + off, h1 + off, e, P, W);
     if (!status.ok()) return false;
     const double beta = slot < 0 ? fallback_beta() : pattern->beta[slot];
@@ -270,6 +302,18 @@ class FamilyMaterial : public BondLaw, public FamilyRows {
   }
 
  private:
+  // P0 + D:(F - F0) of the law at the bond's F0, where it offers D
+  bool linearized(int slot, int off, const MaterialEnv &e, const Mat3 &F, Mat3 &P, double &W)
+  {
+    Mat3 F0 = load(about + lin_entry(slot));
+    Tangent9 D;
+    if (!mat->tangent(F0, hn + off, e, D)) return false;
+    Mat3 P0;
+    if (!mat->stress(F0, hn + off, h1 + off, e, P0, W).ok()) return false;
+    P = P0 + linear_step(D, F - F0);
+    return true;
+  }
+
   std::vector<double> acc;
   std::vector<char> accum;    // accumulates(k) of mat, once per law
   const Material *accum_of = nullptr;

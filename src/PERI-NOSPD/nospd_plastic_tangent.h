@@ -148,8 +148,29 @@ namespace detail {
 
 }    // namespace detail
 
-/* dP/dF of inelastic_point_3d (law SMALL or HENCKY; 3D, and plane strain,
-   whose point is the 3D one) at F from hn: the return from the history
+/* dP/dF of detail::point_core (law SMALL or HENCKY; 3D, and plane strain,
+   whose point is the 3D one) at F from the history s, as point_core
+   returns it: the flow stress's factor env1's (FlowLaw::factor of s's rate
+   and temperature where env1 has none).  A bond-associated bond's return
+   is this one (nospd_bond_history.h).  False where there is none. */
+inline bool core_tangent(Law law, const Lame &m, const FlowLaw &fl, const ThermalLaw &th,
+                         const PointEnv &env1, const Mat3 &F, const double *s, Tangent9 &D)
+{
+  if (law != Law::SMALL && law != Law::HENCKY) return false;
+  const double T = env1.T_base + s[Hist::HEAT];
+  const double f = env1.has_factor ? env1.factor
+                                   : fl.factor(env1.dt > 0.0 ? s[Hist::RATE] : 0.0, T);
+  // point_core's thermal strain and its limits
+  const double eth = th.alpha * (T - th.T_ref);
+  if (law == Law::SMALL) {
+    if (!(std::abs(eth) < 1.0)) return false;
+    return detail::small_tangent_from(m, fl, f, eth, F, s, D);
+  }
+  if (!(eth > -1.0) || !std::isfinite(eth)) return false;
+  return detail::hencky_tangent_from(m, fl, f, std::log1p(eth), F, s, D);
+}
+
+/* dP/dF of inelastic_point_3d at F from hn: the return from the history
    the step starts from (relaxed onto a moved Johnson-Cook surface) at the
    factor of hn's rate and temperature.  False where there is none. */
 inline bool j2_tangent(Law law, const Lame &m, const FlowLaw &fl, const ThermalLaw &th,
@@ -159,15 +180,7 @@ inline bool j2_tangent(Law law, const Lame &m, const FlowLaw &fl, const ThermalL
   const PointEnv env1 = detail::frozen_env(fl, env, hn);
   double hr[Hist::SIZE], released;
   const double *s = detail::relaxed_start(law, m, fl, th, env1, hn, hr, released);
-  const double f = env1.has_factor ? env1.factor : 1.0;
-  // point_core's thermal strain and its limits
-  const double eth = th.alpha * (env.T_base + s[Hist::HEAT] - th.T_ref);
-  if (law == Law::SMALL) {
-    if (!(std::abs(eth) < 1.0)) return false;
-    return detail::small_tangent_from(m, fl, f, eth, F, s, D);
-  }
-  if (!(eth > -1.0) || !std::isfinite(eth)) return false;
-  return detail::hencky_tangent_from(m, fl, f, std::log1p(eth), F, s, D);
+  return core_tangent(law, m, fl, th, env1, F, s, D);
 }
 
 }    // namespace NOSPD

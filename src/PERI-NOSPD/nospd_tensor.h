@@ -255,6 +255,17 @@ inline Tangent9 outer(const Mat3 &a, const Mat3 &b)
   return t;
 }
 
+// D : dB, the change of A that a tangent D gives for a change dB
+inline Mat3 linear_step(const Tangent9 &D, const Mat3 &dB)
+{
+  Eigen::Matrix<double, 9, 1> b, a;
+  for (int k = 0; k < 9; ++k) b(k) = dB(k / 3, k % 3);
+  a = D * b;
+  Mat3 dA;
+  for (int k = 0; k < 9; ++k) dA(k / 3, k % 3) = a(k);
+  return dA;
+}
+
 // d sym(e)/d e
 inline Tangent9 sym_identity()
 {

@@ -238,11 +238,8 @@ void PairPeriNospd::point_stress(int i, Mat3 &F, Mat3 &P, double &W, const NOSPD
 {
   if (linearized && lin_row[i] >= 0) {
     const double *r = &lin[static_cast<size_t>(LIN_RECORD) * lin_row[i]];
-    Eigen::Matrix<double, 9, 1> dF;
-    for (int k = 0; k < 9; k++) dF(k) = F(k / 3, k % 3) - r[k];
-    const Eigen::Matrix<double, 9, 1> dP =
-        Eigen::Map<const NOSPD::Tangent9>(r + 18) * dF;
-    for (int k = 0; k < 9; k++) P(k / 3, k % 3) = r[9 + k] + dP(k);
+    P = NOSPD::load(r + 9) +
+        NOSPD::linear_step(Eigen::Map<const NOSPD::Tangent9>(r + 18), F - NOSPD::load(r));
     W = 0.0;    // a probe carries no energy (eflag is off)
     return;
   }

@@ -502,6 +502,13 @@ void PairPeriNospdHS::begin_history(int i, const BondPattern &p, FamilyWork &w, 
   rows->slot_of = w.sbuf[lane].data();
   rows->bond_offset = fix_bonds->nhist_atom;
   rows->bond_stride = fix_bonds->nhist_bond;
+  rows->record = nullptr;
+  rows->about = nullptr;
+  if (lin_mode != LinMode::OFF && lin_first[i + 1] > lin_first[i]) {
+    double *row = lin_F.data() + lin_first[i];
+    if (lin_mode == LinMode::RECORD) rows->record = row;
+    else rows->about = row;
+  }
 }
 
 /* ----------------------------------------------------------------------

@@ -68,6 +68,12 @@ class PairPeriNospdHS : public PairPeriNospdBase {
   // stencils built since the style was created (they are kept between runs
   // while the law they were built for stays; for tests)
   bigint stencils_built() const { return nstencils_built; }
+  // the Newton minimizer's probes: each bond of an inelastic family whose
+  // law offers a consistent tangent answers P0 + D:(F - F0) about the
+  // bond's F at the positions of begin_linearization (recorded by one
+  // force pass there; pair_peri_nospd_hs_linear.cpp)
+  int begin_linearization() override;
+  void end_linearization() override;
 
  protected:
   // the patterns and stencils follow each family's partner order
@@ -153,6 +159,11 @@ class PairPeriNospdHS : public PairPeriNospdBase {
   };
   void begin_history(int i, const NOSPD::BondPattern &p, FamilyWork &w, int lane,
                      LaneLaws &laws);
+  // the linearization's F rows (FamilyRows::record, about): per owned atom
+  // from lin_first[i] to lin_first[i + 1], empty for families without a law
+  enum class LinMode { OFF, RECORD, PROBE } lin_mode = LinMode::OFF;
+  std::vector<double> lin_F;
+  std::vector<size_t> lin_first;
   void finish_history(int i, LaneLaws &laws, int eflag, bool minimizing, Tally &t);
   void family_failure(int i, const LaneLaws &laws, const NOSPD::Mat3 &F) const;
   void bond_failure(int i, const NOSPD::StateOutput &out, tagint partner) const;

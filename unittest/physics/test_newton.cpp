@@ -205,9 +205,15 @@ TEST_F(Newton, TangentMatchesCentralDifferences)
       {3, "peri/nospd", "strain neohookean stabilization wan", ""},
       {2, "peri/nospd", "strain small plane strain", "yield 250e6"},
       {2, "peri/nospd", "strain svk plane stress", ""},
-      // the bond-associated style's probes take no law tangent yet: a forward
-      // difference across its bonds' yield surfaces, 5e-6 measured
-      {3, "peri/nospd/hs", "form II strain small", "yield 250e6", 2e-5},
+      // the bond-associated style: each bond's own return linearized
+      {3, "peri/nospd/hs", "form II strain small", "yield 250e6"},
+      {3, "peri/nospd/hs", "form I strain hencky", "johnson_cook 9e7 2.9e8 0.31 0.025 1 1.09 298 1356"},
+      {3, "peri/nospd/hs", "form II strain small stabilization silling 0.05", "drucker_prager 30 10 2e8 1e9"},
+      // (with 2e9 hardening here a bond sits within the probe of its yield
+      // surface at the fourth step: the central difference itself kinks)
+      {2, "peri/nospd/hs", "form II strain small plane strain", "yield 250e6 hardening linear 5e9"},
+      {3, "peri/nospd/hs", "form II strain umat",
+       "umat " + umat_lib("umat_elastic.so") + " props 2 200e9 0.3"},
       {2, "peri/nospd/hs", "form I strain finite plane strain", ""},
       // a UMAT's DDSDDE where it writes one (umat_elastic), differences
       // where it leaves it zero (umat_j2)
