@@ -12,6 +12,7 @@
 #include "error.h"
 #include "math_const.h"
 #include "min.h"
+#include "min_nospd_newton.h"
 #include "neigh_list.h"
 #include "neighbor.h"
 #include "update.h"
@@ -124,7 +125,7 @@ void FixNospdBonds::check_min_dmax()
 {
   if (!update->minimize || !model.horizon) return;
   // the Newton minimizer's first trial is its Newton step, not dmax
-  if (utils::strmatch(update->minimize_style, "^nospd/newton")) return;
+  if (MinNospdNewton::selected(update)) return;
   const double dmax = MinDmax::of(update->minimize);
   double delta = 0.0;    // the smallest horizon
   for (int i = 1; i <= atom->ntypes; i++)

@@ -79,6 +79,13 @@ MinNospdNewton::MinNospdNewton(LAMMPS *lmp) : Min(lmp)
 
 /* ---------------------------------------------------------------------- */
 
+bool MinNospdNewton::selected(const Update *update)
+{
+  return dynamic_cast<const MinNospdNewton *>(update->minimize) != nullptr;
+}
+
+/* ---------------------------------------------------------------------- */
+
 int MinNospdNewton::modify_param(int narg, char **arg)
 {
   const std::string key = arg[0];

@@ -37,6 +37,9 @@ class MinNospdNewton : public Min {
   void reset_vectors() override;
   int iterate(int) override;
   int modify_param(int, char **) override;
+  // whether `minimize` runs this style (the checks that guard CG and
+  // damped dynamics skip it: it needs no potential and takes no dmax step)
+  static bool selected(const class Update *update);
 
   // figures of the last minimize for tests and output (rank-independent)
   int newton_steps = 0, krylov_total = 0, last_krylov = 0;

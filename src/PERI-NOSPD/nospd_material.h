@@ -17,10 +17,10 @@
 #include "nospd_constitutive.h"
 #include "nospd_drucker_prager.h"
 #include "nospd_plastic_tangent.h"
-
-#include <vector>
 #include "nospd_plasticity.h"
 #include "nospd_umat.h"
+
+#include <vector>
 
 namespace NOSPD {
 

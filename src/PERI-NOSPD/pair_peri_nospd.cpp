@@ -244,22 +244,33 @@ void PairPeriNospd::point_stress(int i, Mat3 &F, Mat3 &P, double &W, const NOSPD
     return;
   }
   const NOSPD::Material &law = *materials[atom->type[i]];
-  NOSPD::MaterialEnv env;
-  env.dt = env0.dt;
-  const bool history = fix_bonds->nhistory > 0;
-  if (history) {
-    env.T = temperature_base[i];
-    env.rho = atom->rmass[i];
-  }
   NOSPD::UmatPoint pt;
-  if (law.wants_point_data()) {
-    pt = umat_env(i);
-    env.umat = &pt;
-  }
+  const NOSPD::MaterialEnv env = law_env(i, env0.dt, pt);
+  const bool history = fix_bonds->nhistory > 0;
   const NOSPD::PointStatus st =
       law.stress(F, history ? fix_bonds->history[i] : nullptr,
                  history ? fix_bonds->history_trial[i] : nullptr, env, P, W);
   if (!st.ok()) material_failure(i, st, F);
+}
+
+/* ----------------------------------------------------------------------
+   what owned atom i's law sees besides F: the step, and where the style
+   keeps history its temperature, density and (a UMAT's) point data in pt
+------------------------------------------------------------------------- */
+
+NOSPD::MaterialEnv PairPeriNospd::law_env(int i, double dt, NOSPD::UmatPoint &pt)
+{
+  NOSPD::MaterialEnv env;
+  env.dt = dt;
+  if (fix_bonds->nhistory > 0) {
+    env.T = temperature_base[i];
+    env.rho = atom->rmass[i];
+  }
+  if (materials[atom->type[i]]->wants_point_data()) {
+    pt = umat_env(i);
+    env.umat = &pt;
+  }
+  return env;
 }
 
 /* ----------------------------------------------------------------------
@@ -280,15 +291,8 @@ int PairPeriNospd::begin_linearization()
     const int itype = atom->type[i];
     if (!inelastic[itype] || fix_bonds->singular[i] || fix_bonds->lost_bonds(i)) continue;
     const Mat3 F = NOSPD::load(fix_bonds->defgrad[i]);
-    NOSPD::MaterialEnv env;
-    env.dt = update->whichflag == 2 ? 0.0 : update->dt;
-    env.T = temperature_base[i];
-    env.rho = atom->rmass[i];
     NOSPD::UmatPoint pt;
-    if (materials[itype]->wants_point_data()) {
-      pt = umat_env(i);
-      env.umat = &pt;
-    }
+    const NOSPD::MaterialEnv env = law_env(i, update->whichflag == 2 ? 0.0 : update->dt, pt);
     NOSPD::Tangent9 D;
     if (!materials[itype]->tangent(F, fix_bonds->history[i], env, D)) continue;
     lin.resize(static_cast<size_t>(LIN_RECORD) * (n + 1));

@@ -28,13 +28,19 @@ class PairPeriNospd : public PairPeriNospdBase {
   PairPeriNospd(class LAMMPS *);
   void compute(int, int) override;
   int begin_linearization() override;
-  void end_linearization() override { linearized = false; }
+  void end_linearization() override
+  {
+    linearized = false;
+    std::vector<double>().swap(lin);
+    std::vector<int>().swap(lin_row);
+  }
 
  protected:
   int family_kind() const override { return 1; }
   void constitutive_pass(int eflag);
   void constitutive_range(int from, int to, int eflag, Tally &t);
   void point_stress(int i, NOSPD::Mat3 &F, NOSPD::Mat3 &P, double &W, const NOSPD::PointEnv &env);
+  NOSPD::MaterialEnv law_env(int i, double dt, NOSPD::UmatPoint &pt);
   void carried_stress(int i, NOSPD::Mat3 &F, NOSPD::Mat3 &P, double &W, const NOSPD::PointEnv &env);
   void quadratic_pass();
   // the linearized laws (begin_linearization): per owned atom its row in

@@ -14,6 +14,7 @@
 #include "force.h"
 #include "input.h"
 #include "lattice.h"
+#include "min_nospd_newton.h"
 #include "modify.h"
 #include "update.h"
 #include "variable.h"
@@ -85,7 +86,7 @@ void PairPeriNospdBase::check_run_environment(const std::string &cmd)
   // (FIRE and the Newton minimizer's GMRES do not)
   const std::string why = update->whichflag == 2 &&
           !utils::strmatch(update->minimize_style, "^fire") &&
-          !utils::strmatch(update->minimize_style, "^nospd/newton")
+          !MinNospdNewton::selected(update)
       ? not_a_potential() : "";
   if (!why.empty() && !minimize_warned && comm->me == 0)
     error->warning(FLERR, "minimize with {} ({}): CG and the line searches need forces that "
