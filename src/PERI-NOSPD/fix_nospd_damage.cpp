@@ -142,7 +142,7 @@ FixNospdDamage::FixNospdDamage(LAMMPS *lmp, int narg, char **arg) :
   if (narg < 4) error->all(FLERR, "Illegal {} command: missing criterion", cmd);
 
   vector_flag = 1;
-  size_vector = 5;
+  size_vector = 7;
   global_freq = 1;
   extvector = 0;
   restart_global = 1;
@@ -216,6 +216,8 @@ int FixNospdDamage::setmask()
   mask |= PRE_FORCE;         // breaking; setup_pre_force: pre-cracks
   mask |= MIN_PRE_FORCE;     // pre-cracks before minimize (no breaking there)
   mask |= POST_FORCE;
+  mask |= PRE_REVERSE;       // the energy audit: the pair style's forces
+  mask |= POST_INTEGRATE;    // and the work they do over a step
   return mask;
 }
 
@@ -258,6 +260,7 @@ void FixNospdDamage::init()
     if (!nofail_region) error->all(FLERR, "{}: nofail region {} does not exist", cmd, nofail_region_id);
   }
   setup_tables();
+  audit_init(cmd);
 
   if (contact) {
     auto *req = neighbor->add_request(this, NeighConst::REQ_FULL);
@@ -305,6 +308,7 @@ void FixNospdDamage::setup(int vflag)
   v_init(vflag);
   if (contact) contact_forces();
   else ncontact = 0;
+  if (auditing) audit_observe();
   store_state();
   // the smallest stretch of each family, for the first evaluation
   if (criterion == STRETCH && alpha > 0.0) evaluate_and_break(false);
@@ -328,6 +332,10 @@ void FixNospdDamage::post_force(int vflag)
 {
   v_init(vflag);
   if (contact) contact_forces();
+  if (auditing) {
+    audit_half_step();
+    audit_observe();
+  }
   store_state();
 }
 
@@ -732,7 +740,9 @@ double FixNospdDamage::compute_vector(int n)
     case 1: return (double) nbroken_step;
     case 2: return bonds ? (double) bonds->nsingular : 0.0;
     case 3: return bonds ? 0.5 * (double) bonds->nbonds_total : 0.0;
-    default: return (double) ncontact;
+    case 4: return (double) ncontact;
+    case 5: return audit.created();
+    default: return audit.dissipated();
   }
 }
 

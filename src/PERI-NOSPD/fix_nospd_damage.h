@@ -14,6 +14,7 @@ FixStyle(nospd/damage,FixNospdDamage);
 #include "fix.h"
 
 #include "nospd_constitutive.h"
+#include "nospd_energy_audit.h"
 
 #include <array>
 #include <string>
@@ -44,6 +45,9 @@ class FixNospdDamage : public Fix {
   void setup(int) override;
   void pre_force(int) override;
   void post_force(int) override;
+  void setup_pre_reverse(int, int) override;
+  void pre_reverse(int, int) override;
+  void post_integrate() override;
   double compute_scalar() override;
   double compute_vector(int) override;
   int pack_forward_comm(int, int *, double *, int, int *) override;
@@ -108,6 +112,22 @@ class FixNospdDamage : public Fix {
   bigint nbroken_step;      // bonds broken at the last evaluation
   bigint ncontact;          // pairs in contact at the last force evaluation
   double econtact;          // contact energy of the owned atoms, last evaluation
+  double econtact_volume = 0.0;    // the same, sum V_i e_i (the energy audit's)
+
+  // the energy audit (nospd_energy_audit.h, fix_nospd_damage_audit.cpp):
+  // per owned atom the material's force of the last evaluation (the pair
+  // style's, then the contact's), the work it did on this rank since the
+  // run started, and a warning once if the material creates energy
+  bool audit_wanted = true;    // keyword audit
+  bool auditing = false;       // this run
+  bool audit_warned = false;
+  std::vector<double> fmat;
+  double work_local = 0.0;
+  NOSPD::EnergyAudit audit;
+  void audit_init(const std::string &cmd);
+  void audit_forces();
+  void audit_half_step();
+  void audit_observe();
   double far2 = 0.0;        // the ghost cutoff squared, at the last evaluation
   bool rerun_warned = false;    // rerun's warning given
   bool settings_warned = false;    // warn_settings() done

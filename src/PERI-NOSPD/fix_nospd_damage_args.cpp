@@ -175,6 +175,10 @@ int FixNospdDamage::parse_keyword(Args &args, int iarg, const char *&contact_key
     if (!(alpha >= 0.0)) error->all(FLERR, "{}: alpha must be >= 0, got {}", cmd, arg[iarg + 1]);
     if (criterion != STRETCH) error->all(FLERR, "{}: alpha applies to the stretch criterion only", cmd);
     iarg += 2;
+  } else if (key == "audit") {
+    need(iarg, 1, key);
+    audit_wanted = utils::logical(FLERR, arg[iarg + 1], false, lmp) == 1;
+    iarg += 2;
   } else if (key == "every") {
     need(iarg, 1, key);
     nevery = NOSPD_INPUT::integer(error, cmd, key, arg[iarg + 1], -INT_MAX, INT_MAX);

@@ -39,7 +39,7 @@ using NOSPD::Mat3;
 
 void FixNospdDamage::contact_forces()
 {
-  econtact = 0.0;
+  econtact = econtact_volume = 0.0;
   if (!list) return;
   double **x = atom->x, **x0 = atom->x0, **f = atom->f;
   const int *type = atom->type;
@@ -55,13 +55,16 @@ void FixNospdDamage::contact_forces()
   // per thread: contacts, energy, global virial
   struct Sums {
     bigint nc = 0;
-    double e = 0.0;
+    double e = 0.0, ev = 0.0;    // density convention, and sum V_i e_i
     double v[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
   };
   std::vector<Sums> sums(NOSPD::range_count(nthreads, inum));
   NOSPD::run_ranges(sums.size(), inum, [&](int from, int to, int tid) {
     bigint &nc = sums[tid].nc;
     double &e = sums[tid].e;
+    double &ev = sums[tid].ev;
+    // the energy audit's copy of the material's force
+    double *fm = auditing ? fmat.data() : nullptr;
     double *vsum = sums[tid].v;
     for (int ii = from; ii < to; ii++) {
       const int i = ilist[ii];
@@ -93,7 +96,13 @@ void FixNospdDamage::contact_forces()
         f[i][0] += fpair * dx;
         f[i][1] += fpair * dy;
         f[i][2] += fpair * dz;
+        if (fm) {
+          fm[3 * i] += fpair * dx;
+          fm[3 * i + 1] += fpair * dy;
+          fm[3 * i + 2] += fpair * dz;
+        }
         e += 0.25 * kv * (r - d) * (r - d);
+        ev += vfrac[i] * 0.25 * kv * (r - d) * (r - d);
         if (vflag_either) contact_virial(i, fpair, dx, dy, dz, vsum);
         nc++;
       }
@@ -101,14 +110,16 @@ void FixNospdDamage::contact_forces()
     }
   });
   bigint nc = 0;
-  double e = 0.0;
+  double e = 0.0, ev = 0.0;
   for (const Sums &t : sums) {
     nc += t.nc;
     e += t.e;
+    ev += t.ev;
     if (vflag_global)
       for (int k = 0; k < 6; k++) virial[k] += t.v[k];
   }
   econtact = e;
+  econtact_volume = ev;
   bigint all = 0;
   MPI_Allreduce(&nc, &all, 1, MPI_LMP_BIGINT, MPI_SUM, world);
   ncontact = all / 2;
