@@ -54,6 +54,15 @@ MARKER = {"pmb": "v", "lps": "^", "none": "x", "silling": "o", "hourglass": "s",
 S00 = 0.25       # PERI critical stretch: never reached in the elastic scenes
 
 
+def register(key, label, style, potential, only3d=False):
+    """a model beyond MODELS (the scene suite's settings), known to every
+    table here; a static scene finds its equilibrium by CG if it is a
+    potential, else by FIRE"""
+    LABEL[key], STYLE[key], POTENTIAL[key], ONLY3D[key] = label, style, potential, only3d
+    ENERGY_OK[key] = potential
+    SOLVER[key] = "cg" if potential else "fire"
+
+
 def model_nu(key, nu):
     """the Poisson ratio a model actually has"""
     return 0.25 if key == "pmb" else nu

@@ -190,9 +190,7 @@ def _chart(s, work, lmp):
     import chart
     import models as M
     key = 'suite'
-    M.STYLE[key] = '%s strain small stabilization %s' % (s[1], s[2])
-    M.LABEL[key], M.POTENTIAL[key], M.ENERGY_OK[key] = s[0], s[3], s[3]
-    M.SOLVER[key], M.ONLY3D[key] = ('cg' if s[3] else 'fire'), False
+    M.register(key, s[0], '%s strain small stabilization %s' % (s[1], s[2]), s[3])
     R = chart.Runner(lmp, os.environ['LAMMPS_PLUGIN_PATH'], work)
     return chart, R, key
 

@@ -9,9 +9,8 @@ set -euo pipefail
 LMP=$1; WORK=$2
 ROOT=$(cd "$(dirname "$0")/../.." && pwd)
 rm -rf "$WORK"; mkdir -p "$WORK"; cd "$WORK"
-sed 's/^pair_style .*/pair_style      ${style} strain small plane strain/' \
-  "$ROOT/examples/kalthoff_winkler/in.kalthoff_winkler" > in.kw_default
-"$LMP" -in in.kw_default -var image no -log kw.log -screen none || { tail -n 5 kw.log; exit 1; }
+"$LMP" -in "$ROOT/examples/kalthoff_winkler/in.kalthoff_winkler" -var stab default -var image no \
+  -log kw.log -screen none || { tail -n 5 kw.log; exit 1; }
 last=$(ls dump.kalthoff_winkler.* | sort -t. -k2 -n | tail -n 1)
 /usr/bin/python3 "$ROOT/tools/crack_angle.py" "$last" | tee angle.txt
 /usr/bin/python3 - angle.txt <<'PY'
