@@ -13,8 +13,9 @@
    which may only grow: a break releases the energy its bond held.  A fall
    of `released` below its running maximum is energy the material created
    (the measure bench/scenes/energy_balance.py takes from a log).  The
-   time integration's error makes `released` wander a little where nothing
-   breaks; `floor` in creates() sets that noise apart.
+   time integration's error makes `released` wander where nothing breaks,
+   by a fraction of the energy in motion (kinetic and stored): `floor` in
+   creates() sets that noise apart.
 ------------------------------------------------------------------------- */
 
 #ifndef NOSPD_ENERGY_AUDIT_H
@@ -31,8 +32,9 @@ class EnergyAudit {
   void restart() { *this = EnergyAudit(); }
 
   // at a step whose energies are known: the work done on the material
-  // since the run started (W), its stored energy E and its dissipation D
-  void observe(double W, double E, double D)
+  // since the run started (W), its stored energy E, its dissipation D and
+  // its kinetic energy K (the scale of the integration's wander only)
+  void observe(double W, double E, double D, double K = 0.0)
   {
     if (!started) {
       W0 = W;
@@ -44,14 +46,14 @@ class EnergyAudit {
     top = std::max(top, rel);
     made = std::max(made, top - rel);
     dis = (D - D0) + rel;
-    scale = std::max({scale, std::abs(W - W0), std::abs(E - E0)});
+    scale = std::max({scale, std::abs(W - W0), std::abs(E - E0), std::abs(E) + std::abs(K)});
   }
 
   bool observed() const { return started; }
   double released() const { return rel; }
   double created() const { return made; }          // the largest fall of released
   double dissipated() const { return dis; }        // D - D0 + released, now
-  double work_scale() const { return scale; }      // the largest |W - W0|, |E - E0| seen
+  double work_scale() const { return scale; }      // the largest |W - W0|, |E - E0|, |E| + |K|
 
   // energy created beyond `fraction` of the energy dissipated (or with
   // none dissipated) and above `floor` times the largest energy moved
