@@ -14,6 +14,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <regex>
+
 using namespace nospdtest;
 using LAMMPS_NS::LAMMPS;
 using ::testing::HasSubstr;
@@ -174,6 +176,62 @@ TEST_F(Heat, ClampedBarHeatedByConductionReachesMinusEAlphaDeltaT)
     if (std::fabs(y - 2 * DX) > 0.6 * DX || std::fabs(z - 2 * DX) > 0.6 * DX) continue;    // the axis
     EXPECT_NEAR(c->array_atom[i][0] / expect, 1.0, 0.005) << "atom " << lmp->atom->tag[i];
     EXPECT_LT(std::fabs(c->array_atom[i][1] / expect), 0.01);
+    checked++;
+  }
+  EXPECT_GT(checked, 10);
+}
+
+TEST_F(Heat, StaggeredConductionAndNewtonLoadStepsReachMinusEAlphaDeltaT)
+{
+  // quasi-static thermo-elasticity: runs without an integrator conduct
+  // (the points hold still), each minimize with min_style nospd/newton
+  // settles the mechanics on the temperatures reached; the clamped bar of
+  // the test above ends at -E alpha dT
+  const double E = 110e9, alpha = 1.7e-5, dT = 50.0;
+  block(14, 5, 5, "p s s", "thermal " + num(alpha) + " 300");
+  cmd(lmp, "region slice block -0.5 0.5 INF INF INF INF");
+  cmd(lmp, "group slice region slice");
+  cmd(lmp, "fix heat all nospd/heat initial 300 fixed slice " + num(300.0 + dT));
+  // Newton needs the rigid motions held: the slice's centre point wholly,
+  // the one below it along y (rotation about x); the free expansion of the
+  // section, symmetric about both, moves neither
+  cmd(lmp, "region centre block -0.5 0.5 1.5 2.5 1.5 2.5");
+  cmd(lmp, "region below block -0.5 0.5 1.5 2.5 -0.5 0.5");
+  cmd(lmp, "group centre region centre");
+  cmd(lmp, "group below region below");
+  cmd(lmp, "fix hold centre setforce 0 0 0");
+  cmd(lmp, "fix turn below setforce NULL 0 NULL");
+  cmd(lmp, "compute s all nospd/atom stress");
+  cmd(lmp, "min_style nospd/newton");
+  cmd(lmp, "timestep 1e-3");
+  cmd(lmp, "run 0");
+  cmd(lmp, "timestep " + num(20.0 * stable()));
+  // the load: |E alpha dT| / DX per point; each step to 1e-8 of it
+  const std::string ftol = num(1e-8 * E * alpha * dT / DX);
+  // six load steps while the heat spreads, then one on the steady field
+  std::string log;
+  for (int step = 0; step < 6; step++)
+    log += log_of(lmp, {"run 3", "minimize 0 " + ftol + " 20 2000"});
+  log += log_of(lmp, {"run 500", "minimize 0 " + ftol + " 20 2000"});
+  for (int i = 0; i < lmp->atom->nlocal; i++) ASSERT_NEAR(field()[i], 300.0 + dT, 1e-6);
+  int settled = 0, moved = 0;
+  for (size_t at = log.find("criterion = force tolerance"); at != std::string::npos;
+       at = log.find("criterion = force tolerance", at + 1))
+    settled++;
+  const std::regex steps(R"(Iterations, force evaluations = (\d+))");
+  for (std::sregex_iterator it(log.begin(), log.end(), steps), end; it != end; ++it)
+    moved += std::stoi((*it)[1]) > 0;
+  EXPECT_EQ(settled, 7) << log;
+  EXPECT_GE(moved, 6) << log;    // the temperatures moved the body at every step
+  if (getenv("SHOWLOG")) std::printf("%s", log.c_str());
+  auto *c = lmp->modify->get_compute_by_id("s");
+  c->compute_peratom();
+  const double expect = -E * alpha * dT;
+  int checked = 0;
+  for (int i = 0; i < lmp->atom->nlocal; i++) {
+    const double y = lmp->atom->x[i][1], z = lmp->atom->x[i][2];
+    if (std::fabs(y - 2 * DX) > 0.6 * DX || std::fabs(z - 2 * DX) > 0.6 * DX) continue;    // the axis
+    EXPECT_NEAR(c->array_atom[i][0] / expect, 1.0, 0.005) << "atom " << lmp->atom->tag[i];
     checked++;
   }
   EXPECT_GT(checked, 10);
