@@ -60,6 +60,34 @@ class Heat : public ::testing::Test {
   double scalar(const std::string &v) { return lmp->input->variable->compute_equal(v); }
   // the heat fix's stable thermal step (after a run 0)
   double stable() { return scalar("f_heat[1]"); }
+
+  // a copper bar periodic in x (the box holds its length), free sides, its
+  // slice at x = 0 held dT above the rest: it ends in uniaxial stress
+  static constexpr double BAR_E = 110e9, BAR_ALPHA = 1.7e-5, BAR_DT = 50.0;
+  void clamped_bar()
+  {
+    block(14, 5, 5, "p s s", "thermal " + num(BAR_ALPHA) + " 300");
+    cmd(lmp, "region slice block -0.5 0.5 INF INF INF INF");
+    cmd(lmp, "group slice region slice");
+    cmd(lmp, "fix heat all nospd/heat initial 300 fixed slice " + num(300.0 + BAR_DT));
+    cmd(lmp, "compute s all nospd/atom stress");
+  }
+  // sigma_xx = -E alpha dT within 0.5 % along the bar's axis (sigma_yy 1 %)
+  void expect_bar_stress()
+  {
+    auto *c = lmp->modify->get_compute_by_id("s");
+    c->compute_peratom();
+    const double expect = -BAR_E * BAR_ALPHA * BAR_DT;
+    int checked = 0;
+    for (int i = 0; i < lmp->atom->nlocal; i++) {
+      const double y = lmp->atom->x[i][1], z = lmp->atom->x[i][2];
+      if (std::fabs(y - 2 * DX) > 0.6 * DX || std::fabs(z - 2 * DX) > 0.6 * DX) continue;
+      EXPECT_NEAR(c->array_atom[i][0] / expect, 1.0, 0.005) << "atom " << lmp->atom->tag[i];
+      EXPECT_LT(std::fabs(c->array_atom[i][1] / expect), 0.01);
+      checked++;
+    }
+    EXPECT_GT(checked, 10);
+  }
 };
 }    // namespace
 
@@ -152,46 +180,24 @@ TEST_F(Heat, PlateHeldOnItsEdgesReachesTheHarmonicField)
 
 TEST_F(Heat, ClampedBarHeatedByConductionReachesMinusEAlphaDeltaT)
 {
-  // periodic in x (the box holds its length), free sides: uniaxial stress
-  const double E = 110e9, alpha = 1.7e-5, dT = 50.0;
-  block(14, 5, 5, "p s s", "thermal " + num(alpha) + " 300");
-  cmd(lmp, "region slice block -0.5 0.5 INF INF INF INF");
-  cmd(lmp, "group slice region slice");
-  cmd(lmp, "fix heat all nospd/heat initial 300 fixed slice " + num(300.0 + dT));
+  clamped_bar();
   cmd(lmp, "timestep 1e-3");
   cmd(lmp, "run 0");
   cmd(lmp, "timestep " + num(20.0 * stable()));
   cmd(lmp, "run 500");
-  for (int i = 0; i < lmp->atom->nlocal; i++) ASSERT_NEAR(field()[i], 300.0 + dT, 1e-6);
-  cmd(lmp, "compute s all nospd/atom stress");
+  for (int i = 0; i < lmp->atom->nlocal; i++) ASSERT_NEAR(field()[i], 300.0 + BAR_DT, 1e-6);
   cmd(lmp, "min_style cg");
   cmd(lmp, "min_modify dmax " + num(0.01 * DX));
   cmd(lmp, "minimize 0 1e-12 20000 40000");
-  auto *c = lmp->modify->get_compute_by_id("s");
-  c->compute_peratom();
-  const double expect = -E * alpha * dT;
-  int checked = 0;
-  for (int i = 0; i < lmp->atom->nlocal; i++) {
-    const double y = lmp->atom->x[i][1], z = lmp->atom->x[i][2];
-    if (std::fabs(y - 2 * DX) > 0.6 * DX || std::fabs(z - 2 * DX) > 0.6 * DX) continue;    // the axis
-    EXPECT_NEAR(c->array_atom[i][0] / expect, 1.0, 0.005) << "atom " << lmp->atom->tag[i];
-    EXPECT_LT(std::fabs(c->array_atom[i][1] / expect), 0.01);
-    checked++;
-  }
-  EXPECT_GT(checked, 10);
+  expect_bar_stress();
 }
 
 TEST_F(Heat, StaggeredConductionAndNewtonLoadStepsReachMinusEAlphaDeltaT)
 {
   // quasi-static thermo-elasticity: runs without an integrator conduct
   // (the points hold still), each minimize with min_style nospd/newton
-  // settles the mechanics on the temperatures reached; the clamped bar of
-  // the test above ends at -E alpha dT
-  const double E = 110e9, alpha = 1.7e-5, dT = 50.0;
-  block(14, 5, 5, "p s s", "thermal " + num(alpha) + " 300");
-  cmd(lmp, "region slice block -0.5 0.5 INF INF INF INF");
-  cmd(lmp, "group slice region slice");
-  cmd(lmp, "fix heat all nospd/heat initial 300 fixed slice " + num(300.0 + dT));
+  // settles the mechanics on the temperatures reached
+  clamped_bar();
   // Newton needs the rigid motions held: the slice's centre point wholly,
   // the one below it along y (rotation about x); the free expansion of the
   // section, symmetric about both, moves neither
@@ -201,19 +207,18 @@ TEST_F(Heat, StaggeredConductionAndNewtonLoadStepsReachMinusEAlphaDeltaT)
   cmd(lmp, "group below region below");
   cmd(lmp, "fix hold centre setforce 0 0 0");
   cmd(lmp, "fix turn below setforce NULL 0 NULL");
-  cmd(lmp, "compute s all nospd/atom stress");
   cmd(lmp, "min_style nospd/newton");
   cmd(lmp, "timestep 1e-3");
   cmd(lmp, "run 0");
   cmd(lmp, "timestep " + num(20.0 * stable()));
   // the load: |E alpha dT| / DX per point; each step to 1e-8 of it
-  const std::string ftol = num(1e-8 * E * alpha * dT / DX);
+  const std::string ftol = num(1e-8 * BAR_E * BAR_ALPHA * BAR_DT / DX);
   // six load steps while the heat spreads, then one on the steady field
   std::string log;
   for (int step = 0; step < 6; step++)
     log += log_of(lmp, {"run 3", "minimize 0 " + ftol + " 20 2000"});
   log += log_of(lmp, {"run 500", "minimize 0 " + ftol + " 20 2000"});
-  for (int i = 0; i < lmp->atom->nlocal; i++) ASSERT_NEAR(field()[i], 300.0 + dT, 1e-6);
+  for (int i = 0; i < lmp->atom->nlocal; i++) ASSERT_NEAR(field()[i], 300.0 + BAR_DT, 1e-6);
   int settled = 0, moved = 0;
   for (size_t at = log.find("criterion = force tolerance"); at != std::string::npos;
        at = log.find("criterion = force tolerance", at + 1))
@@ -223,18 +228,7 @@ TEST_F(Heat, StaggeredConductionAndNewtonLoadStepsReachMinusEAlphaDeltaT)
     moved += std::stoi((*it)[1]) > 0;
   EXPECT_EQ(settled, 7) << log;
   EXPECT_GE(moved, 6) << log;    // the temperatures moved the body at every step
-  if (getenv("SHOWLOG")) std::printf("%s", log.c_str());
-  auto *c = lmp->modify->get_compute_by_id("s");
-  c->compute_peratom();
-  const double expect = -E * alpha * dT;
-  int checked = 0;
-  for (int i = 0; i < lmp->atom->nlocal; i++) {
-    const double y = lmp->atom->x[i][1], z = lmp->atom->x[i][2];
-    if (std::fabs(y - 2 * DX) > 0.6 * DX || std::fabs(z - 2 * DX) > 0.6 * DX) continue;    // the axis
-    EXPECT_NEAR(c->array_atom[i][0] / expect, 1.0, 0.005) << "atom " << lmp->atom->tag[i];
-    checked++;
-  }
-  EXPECT_GT(checked, 10);
+  expect_bar_stress();
 }
 
 TEST_F(Heat, PreCrackInsulatesExactly)
