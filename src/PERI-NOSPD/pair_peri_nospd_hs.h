@@ -71,7 +71,7 @@ class PairPeriNospdHS : public PairPeriNospdBase {
   // the Newton minimizer's probes: each bond of an inelastic family whose
   // law offers a consistent tangent answers P0 + D:(F - F0) about the
   // bond's F at the positions of begin_linearization (recorded by one
-  // force pass there; pair_peri_nospd_hs_linear.cpp)
+  // force pass there; pair_peri_nospd_hs_history.cpp)
   int begin_linearization() override;
   void end_linearization() override;
 
