@@ -994,9 +994,10 @@ TEST(QuadraticFit, InverseOverTheSpannedBasis)
     const Eigen::Matrix<double, 9, 9> P = K2 * K2i;
     for (int r : in)
       for (int c : in) EXPECT_NEAR(P(r, c), r == c ? 1.0 : 0.0, 1e-10) << r << " " << c;
-    if (dim == 2)
+    if (dim == 2) {
       for (int k : {2, 5, 7, 8})
         for (int c = 0; c < 9; c++) EXPECT_EQ(K2i(k, c), 0.0);
+    }
     // the fit of an exact quadratic field is exact
     Eigen::Matrix<double, 3, 9> Atrue = Eigen::Matrix<double, 3, 9>::Zero();
     for (int r = 0; r < 3; r++)
