@@ -260,7 +260,7 @@ void FixNospdDamage::init()
     if (!nofail_region) error->all(FLERR, "{}: nofail region {} does not exist", cmd, nofail_region_id);
   }
   setup_tables();
-  audit_init(cmd);
+  audit_init();
 
   if (contact) {
     auto *req = neighbor->add_request(this, NeighConst::REQ_FULL);

@@ -124,7 +124,7 @@ class FixNospdDamage : public Fix {
   std::vector<double> fmat;
   double work_local = 0.0;
   NOSPD::EnergyAudit audit;
-  void audit_init(const std::string &cmd);
+  void audit_init();
   void audit_forces();
   void audit_half_step();
   void audit_observe();

@@ -34,9 +34,8 @@ constexpr double NOISE_FLOOR = 1.0e-3;
    the same atoms
 ------------------------------------------------------------------------- */
 
-void FixNospdDamage::audit_init(const std::string &cmd)
+void FixNospdDamage::audit_init()
 {
-  (void) cmd;
   auditing = audit_wanted && update->whichflag == 1 && force->pair == pair &&
       pair->potential_cause().empty() && update->integrate_style &&
       std::strcmp(update->integrate_style, "verlet") == 0;
