@@ -176,7 +176,12 @@ FixNospdDamage::FixNospdDamage(LAMMPS *lmp, int narg, char **arg) :
     case JC_DAMAGE: nstate = 1; break;
     default: nstate = 0;
   }
-  ncomm = 4 + nstate;
+  // criteria of the bond's length or displacement see its mechanical part
+  // only: a freely expanding body breaks nothing (the stress ones need none)
+  if (criterion == STRETCH || criterion == ENERGY || criterion == STRAIN_PRINCIPAL ||
+      criterion == STRESS_VONMISES)
+    ecol = nstate++;
+  ncomm = 4 + nstate;    // init leaves the thermal column out where no type has one
   comm_forward = ncomm;
   if (peratom()) {
     FixNospdDamage::grow_arrays(atom->nmax);
@@ -260,6 +265,7 @@ void FixNospdDamage::init()
     if (!nofail_region) error->all(FLERR, "{}: nofail region {} does not exist", cmd, nofail_region_id);
   }
   setup_tables();
+  init_thermal();
   audit_init();
 
   if (contact) {
@@ -273,6 +279,27 @@ void FixNospdDamage::init()
 void FixNospdDamage::init_list(int /*id*/, NeighList *ptr)
 {
   list = ptr;
+}
+
+/* ----------------------------------------------------------------------
+   the thermal column travels to the ghosts only where a type has a
+   thermal strain (the plain stretch loop then takes its thermal variant)
+------------------------------------------------------------------------- */
+
+void FixNospdDamage::init_thermal()
+{
+  thermal = false;
+  small_law = pair->law() == NOSPD::Law::SMALL;
+  if (ecol >= 0)
+    for (int i = 1; i <= atom->ntypes; i++)
+      if (pair->has_thermal_strain(i)) thermal = true;
+  const int n = 4 + nstate - ((ecol >= 0 && !thermal) ? 1 : 0);
+  if (n != ncomm) {
+    memory->destroy(cdata);
+    cdata = nullptr;
+    nmax_comm = 0;
+    ncomm = n;
+  }
 }
 
 /* ----------------------------------------------------------------------
@@ -347,8 +374,11 @@ void FixNospdDamage::post_force(int vflag)
 
 void FixNospdDamage::store_state()
 {
-  if (!nstate || !bonds || criterion == STRETCH) return;
+  if (!nstate || !bonds) return;
   const int nlocal = atom->nlocal;
+  if (thermal)
+    for (int i = 0; i < nlocal; i++) state[i][ecol] = pair->thermal_strain(i);
+  if (criterion == STRETCH) return;
   const NOSPD::Law law = pair->law();
   if (criterion == EQPS || criterion == JC_DAMAGE) {
     // the point's history after this force computation (the trial state,
@@ -371,7 +401,8 @@ void FixNospdDamage::store_state_range(NOSPD::Law law, int from, int to)
     double *c = state[i];
     const bool sing = bonds->singular[i] != 0;
     if (sing) {
-      for (int k = 0; k < nstate; k++) c[k] = 0.0;
+      for (int k = 0; k < nstate; k++)
+        if (k != ecol) c[k] = 0.0;
       continue;
     }
     const Mat3 F = NOSPD::load(bonds->defgrad[i]);
@@ -382,9 +413,11 @@ void FixNospdDamage::store_state_range(NOSPD::Law law, int from, int to)
     }
     Mat3 S;
     if (criterion == STRAIN_PRINCIPAL) {
+      // the mechanical strain: the thermal one removed as the law removes it
       const Mat3 I = Mat3::Identity();
-      S = NOSPD::small_kinematics(law) ? Mat3(0.5 * (F + F.transpose()) - I)
-                                     : Mat3(0.5 * (F.transpose() * F - I));
+      const double e = thermal ? c[ecol] : 0.0, l = 1.0 + e;
+      S = NOSPD::small_kinematics(law) ? Mat3(0.5 * (F + F.transpose()) - (1.0 + e) * I)
+                                     : Mat3(0.5 * (F.transpose() * F / (l * l) - I));
     } else
       S = NOSPD::cauchy_stress(law, F, P);
     c[0] = S(0, 0);
@@ -427,7 +460,7 @@ void FixNospdDamage::fill_comm_data()
       flags |= FLAG_NOFAIL;
     if (bonds->singular[i]) flags |= FLAG_SINGULAR;
     c[3] = flags;
-    for (int k = 0; k < nstate; k++) c[4 + k] = state[i][k];
+    for (int k = 0; k < ncomm - 4; k++) c[4 + k] = state[i][k];
   }
   comm->forward_comm(this);
 }
@@ -481,7 +514,8 @@ void FixNospdDamage::evaluate_and_break(bool apply)
   switch (criterion) {
     case STRETCH:
       if (alpha > 0.0) cut = scan_bonds(NOSPD::AlphaStretchCriterion{alpha}, apply);
-      else if (apply) stretch_cuts(cut);
+      else if (apply && thermal) stretch_cuts<true>(cut);
+      else if (apply) stretch_cuts<false>(cut);
       break;
     case ENERGY:
       cut = scan_bonds(
@@ -547,6 +581,11 @@ std::vector<std::pair<int, int>> FixNospdDamage::scan_bonds(const Crit &crit_of,
         v.rxi = sqrt(xi[0] * xi[0] + xi[1] * xi[1] + xi[2] * xi[2]);
         v.ry = sqrt(ry2);
         v.s = (v.ry - v.rxi) / v.rxi;
+        if (thermal) {
+          const double e = 0.5 * (cdata[a][4 + ecol] + cdata[c][4 + ecol]);
+          v.s = NOSPD::mechanical_stretch(small_law, e, v.s);
+          NOSPD::mechanical_displacement(small_law, e, xi, Y, U);
+        }
         double limit = crit[type[a]][type[c]], val = 0.0;
         if (scatter_width > 0.0)
           limit *= NOSPD::scatter_factor((uint64_t) scatter_seed, NOSPD::position_key(x0[a]),
@@ -579,6 +618,7 @@ std::vector<std::pair<int, int>> FixNospdDamage::scan_bonds(const Crit &crit_of,
    bit on both ends, on any rank, without ordering the ends by ID.
 ------------------------------------------------------------------------- */
 
+template <bool THERMAL>
 void FixNospdDamage::stretch_cuts(std::vector<std::pair<int, int>> &cut)
 {
   const int nlocal = atom->nlocal;
@@ -630,8 +670,13 @@ void FixNospdDamage::stretch_cuts(std::vector<std::pair<int, int>> &cut)
         if (scatter_width > 0.0)
           limit *= NOSPD::scatter_factor((uint64_t) scatter_seed, NOSPD::position_key(x0[i]),
                                          NOSPD::position_key(x0[j]), scatter_width);
-        // s >= s_c  <=>  |Y|^2 >= (1 + s_c)^2 |xi|^2, without square roots
-        const double f = 1.0 + limit;
+        // s >= s_c  <=>  |Y|^2 >= (1 + s_c)^2 |xi|^2, without square roots;
+        // the bond's thermal strain e moves the bound (mechanical_stretch)
+        double f = 1.0 + limit;
+        if (THERMAL) {
+          const double e = 0.5 * (ci[4 + ecol] + cj[4 + ecol]);
+          f = small_law ? f + e : f * (1.0 + e);
+        }
         if (ry2 >= f * f * rxi2 || ry2 > far2 || std::isnan(ry2)) mine.emplace_back(i, bslot[b]);
       }
     }

@@ -101,6 +101,11 @@ class FixNospdDamage : public Fix {
   // per-atom state of the last force computation (migrates with atoms)
   int nstate;
   double **state;
+  // state column of the point's thermal strain alpha (T - T_ref) (-1: the
+  // criterion needs none); communicated only where a type has one (thermal)
+  int ecol = -1;
+  bool thermal = false;
+  bool small_law = true;    // the thermal strain adds (small) or multiplies
   // per-atom data forward-communicated before the bond loop
   int ncomm, nmax_comm;
   double **cdata;
@@ -156,7 +161,8 @@ class FixNospdDamage : public Fix {
   void store_state_range(NOSPD::Law law, int from, int to);
   void fill_comm_data();
   void evaluate_and_break(bool apply = true);
-  void stretch_cuts(std::vector<std::pair<int, int>> &cut);
+  void init_thermal();
+  template <bool THERMAL> void stretch_cuts(std::vector<std::pair<int, int>> &cut);
   template <class Crit>
   std::vector<std::pair<int, int>> scan_bonds(const Crit &, bool apply);
   void bond_geometry(const double *x0a, const double *x0c, const double *ua, const double *uc,

@@ -71,6 +71,24 @@ inline double critical_energy_from_g0(int dim, double delta, double thickness, d
 }
 
 /* ---------------------------------------------------------------------
+   A bond's mechanical part: its thermal strain e (the mean of its ends')
+   removed as the laws remove it, small strain additively (s - e, and
+   U - e xi), finite strain through the thermal stretch 1 + e
+   ((1 + s)/(1 + e) - 1, and Y/(1 + e) - xi).  A body expanding freely has
+   no mechanical stretch.
+   --------------------------------------------------------------------- */
+inline double mechanical_stretch(bool small, double e, double s)
+{
+  return small ? s - e : (1.0 + s) / (1.0 + e) - 1.0;
+}
+
+inline void mechanical_displacement(bool small, double e, const double *xi, const double *Y,
+                                    double *U)
+{
+  for (int k = 0; k < 3; k++) U[k] = small ? (Y[k] - xi[k]) - e * xi[k] : Y[k] / (1.0 + e) - xi[k];
+}
+
+/* ---------------------------------------------------------------------
    Bond energy of the correspondence model:
        w_ij = 1/2 omega_ij ((A_i + A_j) xi) . U,   A = P K^-1,  U = Y - xi.
    omega (A_i + A_j) xi is the pair force density of bond ij (its

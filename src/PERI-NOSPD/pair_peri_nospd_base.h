@@ -92,6 +92,14 @@ class PairPeriNospdBase : public Pair {
   // (temperature keyword, fix nospd/heat's field, else the type's
   // reference) plus adiabatic heating not yet moved into the field
   double temperature(int i) const;
+  // the thermal strain alpha (T - T_ref) the built-in laws remove from owned
+  // atom i's deformation (0 for a type without; small strain subtracts it,
+  // Hencky divides by the stretch 1 + it)
+  bool has_thermal_strain(int itype) const
+  {
+    return has_history(itype) && thermal[itype].alpha != 0.0;
+  }
+  double thermal_strain(int i) const;
   // the adiabatic heating of owned atom i's accepted state (0 for laws
   // without); newest: the trial state's where a force evaluation made one
   // that the step has not yet accepted

@@ -168,6 +168,15 @@ double PairPeriNospdBase::temperature(int i) const
   return temperature_base[i] + adiabatic_heat(i);
 }
 
+/* ---------------------------------------------------------------------- */
+
+double PairPeriNospdBase::thermal_strain(int i) const
+{
+  const int itype = atom->type[i];
+  if (!has_thermal_strain(itype)) return 0.0;
+  return thermal[itype].alpha * (temperature(i) - thermal[itype].T_ref);
+}
+
 /* ----------------------------------------------------------------------
    the heating in the accepted state's history: J2/Johnson-Cook with heat
    cp chi only (other laws keep other things at that index)

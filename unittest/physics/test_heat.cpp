@@ -231,6 +231,52 @@ TEST_F(Heat, StaggeredConductionAndNewtonLoadStepsReachMinusEAlphaDeltaT)
   expect_bar_stress();
 }
 
+TEST_F(Heat, DamageCriteriaSeeTheMechanicalStrainOnly)
+{
+  // a block at 400 K (thermal strain e = alpha 100 = 1.7e-3 over T_ref 300):
+  // moved to its free expansion x = (1 + e) X it holds no stress and no
+  // criterion below e may break a bond; held at X while cooled to 250 K
+  // (e = -0.85e-3) every bond is stretched mechanically by 0.85e-3 and
+  // breaks under 0.8e-3, none under 1e-3 (alpha 0.1: 1e-3 - 0.1 s_min);
+  // the energy criterion sees the mechanical displacement U - e xi (a bond
+  // of one spacing holds about 1e12 J/m^6, sigma |e| xi.K^-1 xi).  Each case:
+  // the criterion with its value X, low (the cooled block breaks) and high
+  struct Case {
+    std::string law, criterion, low, high;
+  };
+  const std::vector<Case> cases = {{"small", "stretch X", "0.8e-3", "1e-3"},
+                                   {"hencky", "stretch X", "0.8e-3", "1e-3"},
+                                   {"small", "stretch X alpha 0.1", "0.8e-3", "1e-3"},
+                                   {"hencky", "strain principal X", "0.8e-3", "1e-3"},
+                                   {"small", "energy X", "1e11", "1e14"}};
+  for (const auto &cs : cases) {
+    for (const bool cooled : {false, true}) {
+      for (const bool low : {true, false}) {
+        std::string crit = cs.criterion;
+        crit.replace(crit.find('X'), 1, low ? cs.low : cs.high);
+        SCOPED_TRACE(cs.law + " " + crit + (cooled ? " cooled" : " free"));
+        delete lmp;
+        lmp = open_lammps();
+        block(6, 5, 5, "s s s", "thermal 1.7e-5 300", "strain " + cs.law);
+        cmd(lmp, "fix dmg all nospd/damage " + crit);
+        cmd(lmp, std::string("fix heat all nospd/heat initial ") + (cooled ? "250" : "400"));
+        if (!cooled) {
+          cmd(lmp, "variable sx atom x*(1+1.7e-3)");
+          cmd(lmp, "variable sy atom y*(1+1.7e-3)");
+          cmd(lmp, "variable sz atom z*(1+1.7e-3)");
+          cmd(lmp, "set group all x v_sx y v_sy z v_sz");
+        }
+        cmd(lmp, "timestep 1e-9");
+        cmd(lmp, "run 1");
+        const double broken = scalar("f_dmg[1]");
+        const bool breaks = cooled && low;
+        if (breaks) EXPECT_GT(broken, 1000.0);
+        else EXPECT_EQ(broken, 0.0);
+      }
+    }
+  }
+}
+
 TEST_F(Heat, PreCrackInsulatesExactly)
 {
   block(20, 5, 5, "s s s");
