@@ -11,6 +11,7 @@
 #include "error.h"
 #include "fix_nospd_bonds.h"
 #include "force.h"
+#include "modify.h"
 #include "pair_peri_nospd_base.h"
 #include "update.h"
 
@@ -31,13 +32,15 @@ constexpr double NOISE_FLOOR = 1.0e-3;
 /* ----------------------------------------------------------------------
    the audit needs dynamics (velocity Verlet: a step moves x by dt v at the
    half step), the forces of a potential and no other pair style adding to
-   the same atoms
+   the same atoms, and a temperature that holds (fix nospd/heat or the
+   user's changes the stored energy where nothing moves)
 ------------------------------------------------------------------------- */
 
 void FixNospdDamage::audit_init()
 {
   auditing = audit_wanted && update->whichflag == 1 && force->pair == pair &&
-      pair->potential_cause().empty() && update->integrate_style &&
+      pair->potential_cause().empty() && modify->get_fix_by_style("^nospd/heat").empty() &&
+      !pair->temperature_given() && update->integrate_style &&
       std::strcmp(update->integrate_style, "verlet") == 0;
   audit.restart();
   work_local = 0.0;

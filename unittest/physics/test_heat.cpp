@@ -277,6 +277,24 @@ TEST_F(Heat, DamageCriteriaSeeTheMechanicalStrainOnly)
   }
 }
 
+TEST_F(Heat, EnergyAuditStandsAsideWhileTheTemperatureMoves)
+{
+  // a free block cooled fast at its surface: the temperature alone raises
+  // the stored energy where nothing has moved yet, which fix nospd/damage's
+  // audit would count as energy the material created (broken bonds aside)
+  block(6, 5, 5, "s s s", "thermal 1.7e-5 300");
+  cmd(lmp, "fix dmg all nospd/damage stretch 0.01");
+  cmd(lmp, "fix heat all nospd/heat initial 400 convection all 1e7 300");
+  cmd(lmp, "fix nve all nve");
+  cmd(lmp, "thermo 10");
+  cmd(lmp, "thermo_style custom step pe ke f_dmg[6] f_dmg[7]");
+  cmd(lmp, "timestep 5e-8");
+  const auto log = log_of(lmp, {"run 200"});
+  EXPECT_LT(field()[0], 399.0);    // the surface cooled
+  EXPECT_EQ(scalar("f_dmg[6]"), 0.0) << log;
+  EXPECT_EQ(log.find("created energy"), std::string::npos) << log;
+}
+
 TEST_F(Heat, PreCrackInsulatesExactly)
 {
   block(20, 5, 5, "s s s");
