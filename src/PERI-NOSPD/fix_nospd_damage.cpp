@@ -282,27 +282,6 @@ void FixNospdDamage::init_list(int /*id*/, NeighList *ptr)
 }
 
 /* ----------------------------------------------------------------------
-   the thermal column travels to the ghosts only where a type has a
-   thermal strain (the plain stretch loop then takes its thermal variant)
-------------------------------------------------------------------------- */
-
-void FixNospdDamage::init_thermal()
-{
-  thermal = false;
-  small_law = pair->law() == NOSPD::Law::SMALL;
-  if (ecol >= 0)
-    for (int i = 1; i <= atom->ntypes; i++)
-      if (pair->has_thermal_strain(i)) thermal = true;
-  const int n = 4 + nstate - ((ecol >= 0 && !thermal) ? 1 : 0);
-  if (n != ncomm) {
-    memory->destroy(cdata);
-    cdata = nullptr;
-    nmax_comm = 0;
-    ncomm = n;
-  }
-}
-
-/* ----------------------------------------------------------------------
    pre-cracks: before the first force evaluation of the first run
 ------------------------------------------------------------------------- */
 
@@ -364,69 +343,6 @@ void FixNospdDamage::post_force(int vflag)
     audit_observe();
   }
   store_state();
-}
-
-/* ----------------------------------------------------------------------
-   what the criteria need of each owned atom, from the force computation
-   that just ended: A = P K^-1 (energy), the Cauchy stress or the strain
-   (tensor criteria; xx yy zz xy xz yz); zero for a singular family
-------------------------------------------------------------------------- */
-
-void FixNospdDamage::store_state()
-{
-  if (!nstate || !bonds) return;
-  const int nlocal = atom->nlocal;
-  if (thermal)
-    for (int i = 0; i < nlocal; i++) state[i][ecol] = pair->thermal_strain(i);
-  if (criterion == STRETCH) return;
-  const NOSPD::Law law = pair->law();
-  if (criterion == EQPS || criterion == JC_DAMAGE) {
-    // the point's history after this force computation (the trial state,
-    // which the end of the step accepts)
-    const int k = (criterion == EQPS) ? NOSPD::Hist::EQPS : NOSPD::Hist::DAMAGE;
-    // only the built-in plastic types keep EQPS and DAMAGE there
-    const bool has = bonds->nhistory > k;
-    const int *type = atom->type;
-    for (int i = 0; i < nlocal; i++)
-      state[i][0] = (has && pair->has_history(type[i])) ? bonds->history_trial[i][k] : 0.0;
-    return;
-  }
-  NOSPD::run_ranges(nthreads, nlocal,
-                    [&](int from, int to, int) { store_state_range(law, from, to); });
-}
-
-void FixNospdDamage::store_state_range(NOSPD::Law law, int from, int to)
-{
-  for (int i = from; i < to; i++) {
-    double *c = state[i];
-    const bool sing = bonds->singular[i] != 0;
-    if (sing) {
-      for (int k = 0; k < nstate; k++)
-        if (k != ecol) c[k] = 0.0;
-      continue;
-    }
-    const Mat3 F = NOSPD::load(bonds->defgrad[i]);
-    const Mat3 P = NOSPD::load(bonds->pk1[i]);
-    if (criterion == ENERGY) {
-      NOSPD::store(Mat3(P * NOSPD::load(bonds->kinv[i])), c);
-      continue;
-    }
-    Mat3 S;
-    if (criterion == STRAIN_PRINCIPAL) {
-      // the mechanical strain: the thermal one removed as the law removes it
-      const Mat3 I = Mat3::Identity();
-      const double e = thermal ? c[ecol] : 0.0, l = 1.0 + e;
-      S = NOSPD::small_kinematics(law) ? Mat3(0.5 * (F + F.transpose()) - (1.0 + e) * I)
-                                     : Mat3(0.5 * (F.transpose() * F / (l * l) - I));
-    } else
-      S = NOSPD::cauchy_stress(law, F, P);
-    c[0] = S(0, 0);
-    c[1] = S(1, 1);
-    c[2] = S(2, 2);
-    c[3] = S(0, 1);
-    c[4] = S(0, 2);
-    c[5] = S(1, 2);
-  }
 }
 
 /* ----------------------------------------------------------------------
