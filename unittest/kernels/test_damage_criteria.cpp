@@ -2,7 +2,8 @@
    functor against the closed form of its quantity on bonds whose answer is
    known: the normal stress of a uniaxial state along, across and at 45
    degrees to the bond, von Mises of uniaxial stress and pure shear, the
-   bond energy of a hand-computed force state, and the tension-only rules. */
+   bond energy of a hand-computed force state, the tension-only rules, and
+   the mechanical part of a bond with a thermal strain. */
 
 #include "nospd_damage_criteria.h"
 
@@ -108,4 +109,29 @@ TEST(DamageCriteria, PointFailureTakesTheFailedEnd)
   EXPECT_EQ(val, 1.2);
   ASSERT_TRUE(crit(bond(xi, xi, U, c, a), val, limit));
   EXPECT_EQ(val, 1.2);
+}
+
+// a bond of a body expanding freely by its thermal strain e has no
+// mechanical stretch nor displacement, small strain and Hencky alike; a bond
+// held at its length while cooled by e < 0 is stretched by -e (small) and
+// 1/(1+e) - 1 (Hencky), the two agreeing to first order
+TEST(DamageCriteria, ThermalStrainLeavesTheMechanicalPart)
+{
+  const double e = 2.0e-3;
+  const double xi[3] = {1.0, 2.0, -0.5};
+  const double Y[3] = {(1 + e) * xi[0], (1 + e) * xi[1], (1 + e) * xi[2]};
+  const double s = std::sqrt((Y[0] * Y[0] + Y[1] * Y[1] + Y[2] * Y[2]) /
+                             (xi[0] * xi[0] + xi[1] * xi[1] + xi[2] * xi[2])) - 1.0;
+  double Um[3];
+  for (bool small : {true, false}) {
+    EXPECT_NEAR(mechanical_stretch(small, e, s), 0.0, 1e-15);
+    mechanical_displacement(small, e, xi, Y, Um);
+    for (int k = 0; k < 3; k++) EXPECT_NEAR(Um[k], 0.0, 1e-15);
+    // held at xi while cooled: stretched by the thermal contraction
+    mechanical_displacement(small, -e, xi, xi, Um);
+    for (int k = 0; k < 3; k++) EXPECT_NEAR(Um[k], (small ? e : e / (1 - e)) * xi[k], 1e-15);
+  }
+  EXPECT_DOUBLE_EQ(mechanical_stretch(true, -e, 0.0), e);
+  EXPECT_NEAR(mechanical_stretch(false, -e, 0.0), e / (1 - e), 1e-15);
+  EXPECT_NEAR(mechanical_stretch(false, -e, 0.0), mechanical_stretch(true, -e, 0.0), 2 * e * e);
 }
