@@ -18,7 +18,8 @@ run() {    # T0 tend n
 run 333 0.02 10
 run 873 0.02 40
 run 573 0.02 40
-/usr/bin/python3 - "$EX" <<'PY'
+# no __pycache__ in the source tree (measure.py is imported from there)
+PYTHONDONTWRITEBYTECODE=1 /usr/bin/python3 - "$EX" <<'PY'
 import re, sys
 sys.path.insert(0, sys.argv[1])
 import measure
